@@ -1,0 +1,63 @@
+# Instruction sets compiled for this target. Each SIMD kernel source is compiled once per ISA with
+# that ISA's flags; the baseline code picks one at start-up (kernel/src/isa.cpp).
+# The numeric ids must match houle::Isa in kernel/include/houle/kernel/isa.hpp.
+set(HOULE_ISA_ID_scalar 0)
+set(HOULE_ISA_ID_sse4_2 1)
+set(HOULE_ISA_ID_avx2 2)
+set(HOULE_ISA_ID_avx512 3)
+set(HOULE_ISA_ID_neon64 4)
+set(HOULE_ISA_ID_neon 5)
+
+set(HOULE_ISA_FLAGS_sse4_2 -msse4.2)
+set(HOULE_ISA_FLAGS_avx2 -mavx2 -mfma)
+# gcc 12 reports false -Wmaybe-uninitialized inside avx512fintrin.h.
+set(HOULE_ISA_FLAGS_avx512 -mavx512f -mavx512cd -mavx512dq -mavx512bw -mavx512vl -mfma -Wno-maybe-uninitialized)
+set(HOULE_ISA_FLAGS_neon64 "")
+# The armhf baseline (Debian: VFPv3-D16) has no NEON; only the NEON kernels may use it.
+set(HOULE_ISA_FLAGS_neon -mfpu=neon-vfpv4)
+
+if(HOULE_FORCE_SCALAR)
+  set(HOULE_SIMD_ISAS "")
+elseif(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
+  set(HOULE_SIMD_ISAS sse4_2 avx2 avx512)
+elseif(CMAKE_SYSTEM_PROCESSOR MATCHES "^(aarch64|arm64)$")
+  set(HOULE_SIMD_ISAS neon64)
+elseif(CMAKE_SYSTEM_PROCESSOR MATCHES "^arm")
+  set(HOULE_SIMD_ISAS neon)
+else()
+  set(HOULE_SIMD_ISAS "")
+endif()
+message(STATUS "houle: SIMD kernels for: scalar ${HOULE_SIMD_ISAS}")
+
+# Internal: the SIMD layer and the list of compiled ISAs, for houle's own sources and tests.
+add_library(houle_simd INTERFACE)
+target_include_directories(houle_simd INTERFACE $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/kernel/simd>)
+target_link_libraries(houle_simd INTERFACE houle_headeronly houle_options)
+if(HOULE_FORCE_SCALAR)
+  target_compile_definitions(houle_simd INTERFACE HOULE_FORCE_SCALAR=1)
+endif()
+foreach(isa IN LISTS HOULE_SIMD_ISAS)
+  target_compile_definitions(houle_simd INTERFACE HOULE_HAVE_ISA_${HOULE_ISA_ID_${isa}}=1)
+endforeach()
+
+# houle_add_isa_library(<name> <source>...): a static library holding <source> compiled once per SIMD
+# ISA, with HOULE_ISA_ID set. Link it PRIVATE and *after* the baseline objects: inline functions that
+# are not templated on the ISA are emitted in every object, and the linker keeps the first copy it
+# loads, so a baseline caller could otherwise end up in an AVX2-compiled copy (SIGILL on older CPUs).
+# tests/check_isa_leaks.sh guards this.
+function(houle_add_isa_library name)
+  add_library(${name} STATIC)
+  foreach(isa IN LISTS HOULE_SIMD_ISAS)
+    add_library(${name}_${isa} OBJECT ${ARGN})
+    target_compile_definitions(${name}_${isa} PRIVATE HOULE_ISA_ID=${HOULE_ISA_ID_${isa}})
+    target_compile_options(${name}_${isa} PRIVATE ${HOULE_ISA_FLAGS_${isa}})
+    target_link_libraries(${name}_${isa} PRIVATE houle_simd houle_warnings)
+    target_include_directories(${name}_${isa} PRIVATE
+      ${PROJECT_SOURCE_DIR}/kernel/include ${PROJECT_SOURCE_DIR}/sim/include ${CMAKE_CURRENT_SOURCE_DIR}/src)
+    target_sources(${name} PRIVATE $<TARGET_OBJECTS:${name}_${isa}>)
+  endforeach()
+  if(NOT HOULE_SIMD_ISAS)
+    target_sources(${name} PRIVATE ${PROJECT_SOURCE_DIR}/cmake/empty.cpp)
+  endif()
+  set_target_properties(${name} PROPERTIES LINKER_LANGUAGE CXX)
+endfunction()

@@ -1,0 +1,1 @@
+// An empty translation unit: a static library needs at least one object.

@@ -1,0 +1,44 @@
+// The SIMD layer's own math against double precision, and the ulp comparator the ISA tests rely on.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "houle/simd/simd.hpp"
+#include "ulp.hpp"
+
+namespace {
+
+TEST(Ulp, CountsRepresentableFloats) {
+  EXPECT_EQ(houle::test::ulp_distance(1.0f, 1.0f), 0);
+  EXPECT_EQ(houle::test::ulp_distance(1.0f, std::nextafter(1.0f, 2.0f)), 1);
+  EXPECT_EQ(houle::test::ulp_distance(-0.0f, 0.0f), 0);
+  EXPECT_EQ(houle::test::ulp_distance(-std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::denorm_min()), 2);
+  EXPECT_GT(houle::test::ulp_distance(NAN, 1.0f), 1'000'000'000);
+}
+
+TEST(Simd, RoundNearestIsExactBelow2Pow22) {
+  EXPECT_EQ(houle::simd::round_nearest(2.5f), 2.0f);  // ties to even
+  EXPECT_EQ(houle::simd::round_nearest(3.5f), 4.0f);
+  EXPECT_EQ(houle::simd::round_nearest(-1.49f), -1.0f);
+  EXPECT_EQ(houle::simd::round_nearest(4194303.0f), 4194303.0f);
+}
+
+TEST(Simd, SinCosWithin1p2e7OfDouble) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> small(-10.0f, 10.0f), large(-1e4f, 1e4f);
+  double worst = 0.0;
+  for (int i = 0; i < 200000; ++i) {
+    const float x = i % 2 ? small(rng) : large(rng);
+    float s, c;
+    houle::simd::sincos(x, s, c);
+    worst = std::max({worst, std::fabs(s - std::sin(double(x))), std::fabs(c - std::cos(double(x)))});
+  }
+  EXPECT_LE(worst, 1.2e-7);
+  float s, c;
+  houle::simd::sincos(0.0f, s, c);
+  EXPECT_EQ(s, 0.0f);
+  EXPECT_EQ(c, 1.0f);
+}
+
+}  // namespace
