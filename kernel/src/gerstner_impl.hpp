@@ -38,7 +38,7 @@ inline GerstnerPoint<A> gerstner_point(const GerstnerFrame& f, simd::vfloat<A> x
     }
     const V jxx = 1.0f - mxx, jyy = 1.0f - myy, jxy = V(0.0f) - mxy;
     // sum(q k A) < 1 keeps J's eigenvalues in (0, 2): det > 0.
-    const V inv_det = 1.0f / (jxx * jyy - jxy * jxy);
+    const V inv_det = simd::div(V(1.0f), jxx * jyy - jxy * jxy);
     if (step == newton_steps) {
       // h(x) = z(u(x)): grad h = J^-T grad_u z, and J is symmetric.
       return {z, (jyy * zx - jxy * zy) * inv_det, (jxx * zy - jxy * zx) * inv_det};

@@ -6,10 +6,16 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
-#if !HOULE_FORCE_SCALAR
+// Only the per-ISA objects (HOULE_ISA_ID > 0, compiled with that ISA's flags) see xsimd: baseline
+// code could not use its batches anyway (ARMv7's baseline has no SIMD at all) and compiles faster.
+#if defined(HOULE_ISA_ID) && HOULE_ISA_ID != 0
+#define HOULE_SIMD_BATCHES 1
 #include <cassert>  // xsimd 8.1's xsimd_arch.hpp uses assert without including it
 #include <xsimd/xsimd.hpp>
+#else
+#define HOULE_SIMD_BATCHES 0
 #endif
 
 namespace houle::simd {
@@ -29,7 +35,7 @@ struct types<scalar> {
   static constexpr std::size_t width = 1;
 };
 
-#if !HOULE_FORCE_SCALAR
+#if HOULE_SIMD_BATCHES
 template <class A>
 struct types {
   using f = xsimd::batch<float, A>;
@@ -48,19 +54,19 @@ inline constexpr std::size_t width = types<A>::width;
 // Memory. Pointers need no particular alignment.
 template <class A>
 inline vfloat<A> load(const float* p) {
-  if constexpr (width<A> == 1) {
-    return *p;
-  } else {
-    return xsimd::load_unaligned<A>(p);
-  }
+  return vfloat<A>::load_unaligned(p);
+}
+template <>
+inline float load<scalar>(const float* p) {
+  return *p;
 }
 template <class A>
 inline void store(float* p, vfloat<A> v) {
-  if constexpr (width<A> == 1) {
-    *p = v;
-  } else {
-    v.store_unaligned(p);
-  }
+  v.store_unaligned(p);
+}
+template <>
+inline void store<scalar>(float* p, float v) {
+  *p = v;
 }
 template <class A>
 inline vfloat<A> splat(float x) {
@@ -74,15 +80,36 @@ inline bool all(bool m) { return m; }
 inline float min(float a, float b) { return b < a ? b : a; }
 inline float max(float a, float b) { return a < b ? b : a; }
 using std::abs;
-using std::sqrt;
-#if !HOULE_FORCE_SCALAR
+#if HOULE_SIMD_BATCHES
 using xsimd::abs;
 using xsimd::all;
 using xsimd::any;
 using xsimd::max;
 using xsimd::min;
 using xsimd::select;
-using xsimd::sqrt;
+#endif
+
+// Division and square root: use these, never `/` or xsimd::sqrt on batches. xsimd 8.1 computes
+// both on AArch64 with its ARMv7 reciprocal-estimate code, which is neither correctly rounded nor
+// equal to the scalar result; AArch64 has exact instructions. (ARMv7 NEON has none: there the
+// estimate is all there is, and the SIMD tests state a tolerance for it.)
+inline float div(float a, float b) { return a / b; }
+inline float sqrt(float x) { return std::sqrt(x); }
+#if HOULE_SIMD_BATCHES
+template <class A>
+inline xsimd::batch<float, A> div(xsimd::batch<float, A> a, xsimd::batch<float, A> b) {
+#if defined(__aarch64__)
+  if constexpr (std::is_same_v<A, xsimd::neon64>) return vdivq_f32(a, b);
+#endif
+  return a / b;
+}
+template <class A>
+inline xsimd::batch<float, A> sqrt(xsimd::batch<float, A> x) {
+#if defined(__aarch64__)
+  if constexpr (std::is_same_v<A, xsimd::neon64>) return vsqrtq_f32(x);
+#endif
+  return xsimd::sqrt(x);
+}
 #endif
 
 /// Round to nearest (ties to even) with two additions: exact for |x| < 2^22 and identical on every
