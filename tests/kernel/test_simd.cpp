@@ -15,6 +15,10 @@ TEST(Ulp, CountsRepresentableFloats) {
   EXPECT_EQ(houle::test::ulp_distance(-0.0f, 0.0f), 0);
   EXPECT_EQ(houle::test::ulp_distance(-std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::denorm_min()), 2);
   EXPECT_GT(houle::test::ulp_distance(NAN, 1.0f), 1'000'000'000);
+  EXPECT_EQ(houle::test::ulps_of_scale(0.25f, 0.25f, 1.0f), 0);
+  EXPECT_EQ(houle::test::ulps_of_scale(0.0f, 1e-30f, 1.0f), 1);  // any difference counts
+  EXPECT_EQ(houle::test::ulps_of_scale(1.0f, std::nextafter(1.0f, 2.0f), 1.0f), 1);
+  EXPECT_EQ(houle::test::ulps_of_scale(0.0f, 3.0f * 1.1920929e-7f, 1.0f), 3);
 }
 
 TEST(Simd, RoundNearestIsExactBelow2Pow22) {

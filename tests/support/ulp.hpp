@@ -21,4 +21,12 @@ inline std::int64_t ulp_distance(float a, float b) {
   return d < 0 ? -d : d;
 }
 
+/// |a - b| in units of the float spacing at `scale` (> 0), rounded up: 0 only when a == b. Used where
+/// outputs come from cancellation, so that a value near zero is judged against its natural size.
+inline std::int64_t ulps_of_scale(float a, float b, float scale) {
+  if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<std::int64_t>::max();
+  const double spacing = double(std::nextafter(scale, std::numeric_limits<float>::infinity())) - double(scale);
+  return std::int64_t(std::ceil(std::fabs(double(a) - double(b)) / spacing));
+}
+
 }  // namespace houle::test
