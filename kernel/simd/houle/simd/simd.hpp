@@ -89,10 +89,10 @@ using xsimd::min;
 using xsimd::select;
 #endif
 
-// Division and square root: use these, never `/` or xsimd::sqrt on batches. xsimd 8.1 computes
-// both on AArch64 with its ARMv7 reciprocal-estimate code, which is neither correctly rounded nor
-// equal to the scalar result; AArch64 has exact instructions. (ARMv7 NEON has none: there the
-// estimate is all there is, and the SIMD tests state a tolerance for it.)
+// Division and square root: use these, never `/` or xsimd::sqrt on batches. xsimd 8.1 computes both
+// on NEON (ARMv7 and, by inheritance, AArch64) from a reciprocal estimate plus Newton steps: neither
+// correctly rounded nor equal to the scalar result. AArch64 has exact vector instructions; ARMv7 has
+// none, so there each lane goes through the (exact) VFP instruction. Every ISA then agrees bit for bit.
 inline float div(float a, float b) { return a / b; }
 inline float sqrt(float x) { return std::sqrt(x); }
 #if HOULE_SIMD_BATCHES
@@ -100,6 +100,14 @@ template <class A>
 inline xsimd::batch<float, A> div(xsimd::batch<float, A> a, xsimd::batch<float, A> b) {
 #if defined(__aarch64__)
   if constexpr (std::is_same_v<A, xsimd::neon64>) return vdivq_f32(a, b);
+#elif defined(__arm__)
+  if constexpr (std::is_same_v<A, xsimd::neon>) {
+    alignas(16) float x[4], y[4];
+    a.store_aligned(x);
+    b.store_aligned(y);
+    for (int i = 0; i < 4; ++i) x[i] /= y[i];
+    return xsimd::batch<float, A>::load_aligned(x);
+  }
 #endif
   return a / b;
 }
@@ -107,6 +115,13 @@ template <class A>
 inline xsimd::batch<float, A> sqrt(xsimd::batch<float, A> x) {
 #if defined(__aarch64__)
   if constexpr (std::is_same_v<A, xsimd::neon64>) return vsqrtq_f32(x);
+#elif defined(__arm__)
+  if constexpr (std::is_same_v<A, xsimd::neon>) {
+    alignas(16) float v[4];
+    x.store_aligned(v);
+    for (float& e : v) e = std::sqrt(e);
+    return xsimd::batch<float, A>::load_aligned(v);
+  }
 #endif
   return xsimd::sqrt(x);
 }
