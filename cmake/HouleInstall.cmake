@@ -2,7 +2,11 @@
 # find_package(houle) and link houle::kernel / houle::sim (tests/consumer checks it).
 include(CMakePackageConfigHelpers)
 
-install(DIRECTORY kernel/include/houle sim/include/houle DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+foreach(dir kernel/include/houle sim/include/houle)
+  if(EXISTS ${PROJECT_SOURCE_DIR}/${dir})
+    install(DIRECTORY ${dir} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  endif()
+endforeach()
 set(_targets "")
 foreach(t houle_kernel houle_kernel_isa houle_sim houle_sim_isa)
   if(TARGET ${t})
