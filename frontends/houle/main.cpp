@@ -1,3 +1,58 @@
+// houle: the command-line frontend. Parsing, I/O and wiring only; the work is in houle::sim and
+// houle::kernel.
 #include <cstdio>
+#include <cstring>
+#include <span>
+#include <string_view>
+
+#include "commands.hpp"
 #include "houle/kernel/isa.hpp"
-int main() { std::printf("houle %s (%s)\n", HOULE_VERSION, houle::isa_name(houle::active_isa()).data()); }
+
+namespace {
+
+constexpr const char* usage = R"(usage: houle <command> [options]
+
+Real-time animation kernel for coastal ocean scenes.
+
+commands:
+  validate SCENE        check a scene file; errors give file:line:column and what was expected
+  info [SCENE]          describe a scene (the built-in coast without SCENE)
+
+options:
+  --help                this text; `houle <command> --help` for a command's options
+  --version             version and the SIMD instruction set in use
+
+environment:
+  HOULE_ISA             force a kernel path: scalar, sse4.2, avx2, avx512, neon64, neon
+)";
+
+int version() {
+  std::printf("houle %s (ISA %.*s; compiled:", HOULE_VERSION, int(houle::isa_name(houle::active_isa()).size()),
+              houle::isa_name(houle::active_isa()).data());
+  for (int i = 0; i < 6; ++i) {
+    const auto isa = static_cast<houle::Isa>(i);
+    if (houle::isa_compiled(isa)) std::printf(" %.*s", int(houle::isa_name(isa).size()), houle::isa_name(isa).data());
+  }
+  std::printf(")\n");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (const std::string_view err = houle::isa_override_error(); !err.empty()) {
+    std::fprintf(stderr, "houle: %.*s\n", int(err.size()), err.data());
+    return 2;
+  }
+  const std::string_view cmd = argc > 1 ? argv[1] : "--help";
+  const std::span<char* const> rest(argv + std::min(argc, 2), argv + argc);
+  if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+    std::fputs(usage, stdout);
+    return 0;
+  }
+  if (cmd == "--version") return version();
+  if (cmd == "validate") return houle::cli::cmd_validate(rest);
+  if (cmd == "info") return houle::cli::cmd_info(rest);
+  std::fprintf(stderr, "houle: unknown command '%.*s' (see houle --help)\n", int(cmd.size()), cmd.data());
+  return 2;
+}

@@ -2,12 +2,20 @@
 #pragma once
 #include <cstddef>
 
+#include "houle/kernel/capillary.hpp"
 #include "houle/kernel/gerstner.hpp"
+#include "houle/kernel/optics.hpp"
+#include "march_context.hpp"
 
 namespace houle::detail {
 
 struct KernelTable {
   void (*gerstner_eval)(const GerstnerFrame&, const float*, const float*, std::size_t, GerstnerOutput, int) noexcept;
+  void (*fresnel_batch)(const float*, float, float*, std::size_t) noexcept;
+  void (*reflect_refract_batch)(const ReflectRefractInput&, std::size_t, float, float, ReflectRefractOutput) noexcept;
+  void (*capillary_eval)(const CapillaryFrame&, const float*, const float*, const float*, std::size_t, float*, float*,
+                         float*) noexcept;
+  void (*march_rays)(const MarchContext&, const MarchRays&, std::size_t, const MarchHits&) noexcept;
 };
 
 }  // namespace houle::detail

@@ -1,14 +1,18 @@
 // Compiled once per ISA (HOULE_ISA_ID set by cmake/HouleIsa.cmake) and once without it (scalar).
 #define HOULE_ISA_SOURCE
 #include "houle/simd/dispatch.hpp"
+#include "capillary_impl.hpp"
 #include "gerstner_impl.hpp"
+#include "optics_impl.hpp"
+#include "march_impl.hpp"
 #include "kernel_table.hpp"
 
 namespace houle::detail {
 namespace {
 template <class A>
 constexpr KernelTable make_kernel_table() {
-  return {&gerstner_eval<A>};
+  return {&gerstner_eval<A>, &fresnel_batch<A>, &reflect_refract_batch<A>, &capillary_eval<A>,
+          &march_rays<A>};
 }
 }  // namespace
 }  // namespace houle::detail

@@ -1,0 +1,98 @@
+#include "cli.hpp"
+
+#include <charconv>
+#include <cmath>
+
+namespace houle::cli {
+
+Args::Args(std::string command, std::span<char* const> argv)
+    : command_(std::move(command)), args_(argv.begin(), argv.end()), used_(args_.size(), false) {}
+
+void Args::fail(std::string message) {
+  if (!error_) error_ = CliError{command_ + ": " + std::move(message)};
+}
+
+bool Args::flag(std::string_view name) {
+  bool found = false;
+  for (std::size_t i = 0; i < args_.size(); ++i) {
+    if (!used_[i] && args_[i] == name) used_[i] = found = true;
+  }
+  return found;
+}
+
+std::vector<std::string> Args::values(std::string_view name) {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < args_.size(); ++i) {
+    if (used_[i]) continue;
+    const std::string& a = args_[i];
+    if (a == name) {
+      used_[i] = true;
+      if (i + 1 >= args_.size()) {
+        fail(std::string(name) + " expects a value");
+        break;
+      }
+      used_[i + 1] = true;
+      out.push_back(args_[++i]);
+    } else if (a.size() > name.size() && a.compare(0, name.size(), name) == 0 && a[name.size()] == '=') {
+      used_[i] = true;
+      out.push_back(a.substr(name.size() + 1));
+    }
+  }
+  return out;
+}
+
+std::optional<std::string> Args::value(std::string_view name) {
+  std::vector<std::string> v = values(name);
+  if (v.size() > 1) fail(std::string(name) + " given more than once");
+  if (v.empty()) return std::nullopt;
+  return v.back();
+}
+
+std::vector<std::string> Args::rest() {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < args_.size(); ++i) {
+    if (used_[i]) continue;
+    if (args_[i].size() > 1 && args_[i][0] == '-' && args_[i] != "-") {
+      fail("unknown option '" + args_[i] + "' (see houle " + command_ + " --help)");
+    } else {
+      out.push_back(args_[i]);
+    }
+  }
+  return out;
+}
+
+std::optional<double> parse_double(std::string_view text) {
+  double v = 0.0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<long long> parse_int(std::string_view text) {
+  long long v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec != std::errc() || r.ptr != text.data() + text.size()) return std::nullopt;
+  return v;
+}
+
+std::optional<std::pair<int, int>> parse_size(std::string_view text) {
+  const auto x = text.find('x');
+  if (x == std::string_view::npos) return std::nullopt;
+  const auto w = parse_int(text.substr(0, x)), h = parse_int(text.substr(x + 1));
+  if (!w || !h || *w <= 0 || *h <= 0 || *w > 16384 || *h > 16384) return std::nullopt;
+  return std::pair<int, int>{int(*w), int(*h)};
+}
+
+std::optional<std::vector<double>> parse_list(std::string_view text) {
+  std::vector<double> out;
+  while (true) {
+    const auto comma = text.find(',');
+    const auto v = parse_double(text.substr(0, comma));
+    if (!v) return std::nullopt;
+    out.push_back(*v);
+    if (comma == std::string_view::npos) return out;
+    text.remove_prefix(comma + 1);
+  }
+}
+
+}  // namespace houle::cli

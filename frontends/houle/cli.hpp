@@ -1,0 +1,50 @@
+// Command-line parsing shared by houle's commands: options, values, and errors that say what was
+// expected. Parsing never exits; commands turn a CliError into a message and exit code 2.
+#pragma once
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace houle::cli {
+
+struct CliError {
+  std::string message;
+};
+
+/// The arguments of one command, consumed option by option; whatever is left must be positionals.
+class Args {
+ public:
+  Args(std::string command, std::span<char* const> argv);
+
+  /// True (and consumed) if the flag is present.
+  bool flag(std::string_view name);
+  /// The value after `name` (`--size 640x360` or `--size=640x360`), consumed; empty if absent.
+  std::optional<std::string> value(std::string_view name);
+  /// Every value of a repeatable option, in order.
+  std::vector<std::string> values(std::string_view name);
+  /// Positionals left after all options were taken; an unknown option is an error.
+  std::vector<std::string> rest();
+
+  const std::string& command() const { return command_; }
+  bool failed() const { return error_.has_value(); }
+  const CliError& error() const { return *error_; }
+  /// Record the first error only: later ones are usually consequences.
+  void fail(std::string message);
+
+ private:
+  std::string command_;
+  std::vector<std::string> args_;
+  std::vector<bool> used_;
+  std::optional<CliError> error_;
+};
+
+std::optional<double> parse_double(std::string_view text);
+std::optional<long long> parse_int(std::string_view text);
+/// "640x360" -> {640, 360}.
+std::optional<std::pair<int, int>> parse_size(std::string_view text);
+/// "1.5,-2" or "1.5,-2,3" -> the numbers.
+std::optional<std::vector<double>> parse_list(std::string_view text);
+
+}  // namespace houle::cli

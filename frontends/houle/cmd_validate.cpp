@@ -1,0 +1,33 @@
+#include <cstdio>
+
+#include "cli.hpp"
+#include "commands.hpp"
+#include "scene_file.hpp"
+
+namespace houle::cli {
+
+int cmd_validate(std::span<char* const> argv) {
+  Args args("validate", argv);
+  if (args.flag("--help")) {
+    std::puts("usage: houle validate SCENE...\n\nChecks scene files; prints `SCENE: ok` or the first error of each as\nfile:line:column: field: what was expected. Exit code 2 if any is invalid.");
+    return 0;
+  }
+  const std::vector<std::string> files = args.rest();
+  if (args.failed() || files.empty()) {
+    std::fprintf(stderr, "houle %s\n", args.failed() ? args.error().message.c_str() : "validate: expected at least one scene file");
+    return 2;
+  }
+  int status = 0;
+  for (const std::string& f : files) {
+    const Expected<Scene> scene = load_scene_file(f);
+    if (scene) {
+      std::printf("%s: ok\n", f.c_str());
+    } else {
+      std::fprintf(stderr, "%s: %s\n", scene.error().field.c_str(), scene.error().message.c_str());
+      status = 2;
+    }
+  }
+  return status;
+}
+
+}  // namespace houle::cli

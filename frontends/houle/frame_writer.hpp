@@ -1,0 +1,41 @@
+// Where rendered frames go: an image sequence through OpenImageIO, or raw framebuffers to a file or
+// a pipe. Writers report errors as messages naming the file; a reader closing the pipe is not an
+// error but the end of the run.
+#pragma once
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "houle/kernel/expected.hpp"
+#include "houle/kernel/framebuffer.hpp"
+
+namespace houle::cli {
+
+enum class WriteStatus { ok, closed, failed };
+
+class FrameWriter {
+ public:
+  virtual ~FrameWriter() = default;
+  /// Writes frame number `index`; on `failed`, error() says why.
+  virtual WriteStatus write(const Framebuffer& fb, const ToneMap& tm, long index) = 0;
+  const std::string& error() const { return error_; }
+
+ protected:
+  std::string error_;
+};
+
+/// `pattern` holds one printf integer conversion (e.g. "frames/%04d.png"); the extension picks the
+/// format: 8-bit sRGB for PNG/JPEG/TIFF..., linear half floats for EXR. Each image is written under
+/// a temporary name and renamed, so no partial image ever has the final name.
+Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& pattern, int width, int height);
+
+/// Tightly packed frames of `format` to `path`, or to standard output for "-".
+Expected<std::unique_ptr<FrameWriter>> make_raw_writer(const std::string& path, PixelFormat format, int width,
+                                                       int height);
+
+/// "frames/%04d.png" with 7 -> "frames/0007.png"; an error if the pattern has not exactly one
+/// integer conversion (and no other conversions).
+Expected<std::string> format_frame_name(const std::string& pattern, long index);
+
+}  // namespace houle::cli

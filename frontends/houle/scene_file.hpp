@@ -1,0 +1,21 @@
+// Scene files: TOML (docs/scenes.md) into houle::Scene. Every error names the file, line and column
+// and says what was expected: unknown keys, wrong types, and whatever sim's validate() rejects.
+#pragma once
+#include <string>
+#include <string_view>
+
+#include "houle/kernel/expected.hpp"
+#include "houle/sim/scene.hpp"
+
+namespace houle::cli {
+
+/// Scene files larger than this are refused before parsing (a scene is a few kB; a height map is an
+/// image file beside it).
+inline constexpr std::size_t max_scene_file_bytes = 1 << 20;
+
+/// Error.field is "file:line:column", Error.message "key.path: what was expected".
+Expected<Scene> load_scene_file(const std::string& path);
+/// The same from text; `name` is used in messages, relative image paths resolve against `dir`.
+Expected<Scene> parse_scene(std::string_view text, const std::string& name, const std::string& dir);
+
+}  // namespace houle::cli

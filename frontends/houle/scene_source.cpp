@@ -1,0 +1,23 @@
+#include "scene_source.hpp"
+
+#include <cstdio>
+
+#include "scene_file.hpp"
+
+namespace houle::cli {
+
+std::optional<Scene> scene_from_args(const std::vector<std::string>& positionals, const char* command) {
+  if (positionals.size() > 1) {
+    std::fprintf(stderr, "houle %s: one scene file at most, got %zu arguments\n", command, positionals.size());
+    return std::nullopt;
+  }
+  if (positionals.empty()) return builtin_coast();
+  Expected<Scene> scene = load_scene_file(positionals[0]);
+  if (!scene) {
+    std::fprintf(stderr, "houle: %s: %s\n", scene.error().field.c_str(), scene.error().message.c_str());
+    return std::nullopt;
+  }
+  return std::move(scene.value());
+}
+
+}  // namespace houle::cli

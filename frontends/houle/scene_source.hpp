@@ -1,0 +1,15 @@
+// Where a command's scene comes from: a file, or the built-in coast when none is named.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "houle/sim/scene.hpp"
+
+namespace houle::cli {
+
+/// The scene named by the positionals (at most one), or the built-in coast. On error, prints
+/// "houle: file:line:col: what" and returns nothing.
+std::optional<Scene> scene_from_args(const std::vector<std::string>& positionals, const char* command);
+
+}  // namespace houle::cli

@@ -1,0 +1,42 @@
+// The frame the renderer writes (linear, scene-referred RGB) and its encodings for output.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace houle {
+
+/// Interleaved linear RGB floats, row-major, top row first. Sized once; rendering never reallocates.
+struct Framebuffer {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  ///< width * height * 3
+
+  Framebuffer() = default;
+  Framebuffer(int w, int h) : width(w), height(h), rgb(std::size_t(w) * std::size_t(h) * 3, 0.0f) {}
+};
+
+/// Tightly packed output formats. 8-bit ones are display-referred sRGB (tone-mapped, encoded);
+/// rgbf32 is the linear framebuffer itself (for EXR-like use and for tests).
+enum class PixelFormat : std::uint8_t { rgb24, rgba8, bgra8, rgbf32 };
+std::string_view pixel_format_name(PixelFormat f) noexcept;
+std::optional<PixelFormat> parse_pixel_format(std::string_view name) noexcept;
+std::size_t bytes_per_pixel(PixelFormat f) noexcept;
+
+/// The display transform: exposure, then a soft shoulder above 0.8 that rolls highlights (the sun's
+/// glint) smoothly into 1 instead of clipping them (C1 at the knee).
+struct ToneMap {
+  float exposure = 1.0f;
+};
+float tone_map(float linear, const ToneMap& tm) noexcept;
+
+/// Linear [0, 1] to the sRGB code value 0..255, correctly rounded (a table lookup plus one
+/// comparison; equal to rounding the exact sRGB curve, tested over every float in [0, 1]).
+std::uint8_t srgb8_from_linear(float linear) noexcept;
+
+/// Encodes `fb` into `out` (bytes_per_pixel(f) * width * height bytes), alpha = 255.
+void encode_frame(const Framebuffer& fb, const ToneMap& tm, PixelFormat f, std::span<std::byte> out) noexcept;
+
+}  // namespace houle

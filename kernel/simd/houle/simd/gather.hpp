@@ -1,0 +1,91 @@
+// Integer lanes and table lookups for the SIMD layer (apart from simd.hpp so that it can grow
+// without touching the core vocabulary). vint<A> is int32 per lane; A = scalar gives plain int32.
+// As in simd.hpp, each operation is a plain overload for scalar and a template on the batch's arch,
+// so kernels call them without naming A. Internal to houle: public headers never include this file.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#include "houle/simd/simd.hpp"
+
+#if HOULE_SIMD_BATCHES && (defined(__AVX2__) || defined(__AVX512F__))
+#include <immintrin.h>
+#endif
+
+namespace houle::simd {
+
+template <class A>
+struct int_types;
+template <>
+struct int_types<scalar> {
+  using i = std::int32_t;
+};
+#if HOULE_SIMD_BATCHES
+template <class A>
+struct int_types {
+  using i = xsimd::batch<std::int32_t, A>;
+};
+#endif
+template <class A>
+using vint = typename int_types<A>::i;
+
+/// Floats holding integers (|x| < 2^31) to int32: exact, the same on every ISA.
+inline std::int32_t to_int_exact(float x) { return static_cast<std::int32_t>(x); }
+/// int32 with |i| < 2^24 to float: exact.
+inline float to_float_exact(std::int32_t i) { return static_cast<float>(i); }
+
+/// Byte B (0 = least significant) of each lane's word, sign-extended, by two shifts (unsigned in
+/// the scalar path so that no signed overflow is involved).
+template <int B>
+inline std::int32_t signed_byte(std::int32_t w) {
+  static_assert(B >= 0 && B < 4);
+  return static_cast<std::int32_t>(static_cast<std::uint32_t>(w) << (24 - 8 * B)) >> 24;
+}
+
+/// table[index] per lane.
+inline std::int32_t gather(const std::int32_t* table, std::int32_t index) { return table[index]; }
+
+#if HOULE_SIMD_BATCHES
+template <class A>
+inline xsimd::batch<std::int32_t, A> to_int_exact(xsimd::batch<float, A> x) {
+  return xsimd::batch_cast<std::int32_t>(x);
+}
+template <class A>
+inline xsimd::batch<float, A> to_float_exact(xsimd::batch<std::int32_t, A> i) {
+  return xsimd::batch_cast<float>(i);
+}
+template <int B, class A>
+inline xsimd::batch<std::int32_t, A> signed_byte(xsimd::batch<std::int32_t, A> w) {
+  static_assert(B >= 0 && B < 4);
+  if constexpr (B == 3) {
+    return w >> 24;  // arithmetic: signed lanes
+  } else {
+    return (w << (24 - 8 * B)) >> 24;
+  }
+}
+/// AVX2 and AVX-512 use the gather instructions (xsimd 8.1's integer gather falls back to inserts,
+/// performance.md); the others load lane by lane.
+template <class A>
+inline xsimd::batch<std::int32_t, A> gather(const std::int32_t* table, xsimd::batch<std::int32_t, A> index) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+    return _mm512_i32gather_epi32(index, table, 4);
+  } else
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, A>) {
+    return _mm256_i32gather_epi32(table, index, 4);
+  } else
+#endif
+  {
+    constexpr std::size_t W = xsimd::batch<std::int32_t, A>::size;
+    alignas(64) std::int32_t idx[W], out[W];
+    index.store_aligned(idx);
+    for (std::size_t l = 0; l < W; ++l) out[l] = table[idx[l]];
+    return xsimd::batch<std::int32_t, A>::load_aligned(out);
+  }
+}
+#endif
+
+}  // namespace houle::simd

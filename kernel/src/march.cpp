@@ -1,0 +1,162 @@
+#include "houle/kernel/march.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "houle/simd/dispatch.hpp"
+#include "kernel_table.hpp"
+#include "march_context.hpp"
+#include "march_impl.hpp"
+
+namespace houle {
+namespace {
+
+/// Cone, knobs and noise: everything but the surface.
+void set_ray_params(detail::MarchContext& c, const MarchParams& p, float grid_min, float grid_max) noexcept {
+  // Knobs are clamped to sane values here: the frame loop has no error path.
+  const MarchQuality& q = p.quality;
+  c.pixel_angle = std::isfinite(p.pixel_angle) && p.pixel_angle > 0.0f ? p.pixel_angle : 0.0f;
+  c.cone_width = std::isfinite(p.cone_width) && p.cone_width > 0.0f ? p.cone_width : 0.0f;
+  c.step_fraction = std::isfinite(q.step_fraction) && q.step_fraction > 1e-6f ? q.step_fraction : 1e-6f;
+  c.min_step = std::isfinite(q.min_step) && q.min_step > 1e-7f ? q.min_step : 1e-7f;
+  c.max_distance = std::isfinite(q.max_distance) && q.max_distance > 0.0f ? std::min(q.max_distance, 1e9f) : 1e5f;
+  c.refine_iterations = std::clamp(q.refine_iterations, 0, 64);
+  c.max_steps = std::max(q.max_steps, 1);
+
+  float noise_total = 0.0f;
+  if (p.noise != nullptr && p.noise->octaves > 0) {
+    const CapillaryFrame& n = *p.noise;
+    const CapillaryParams& np = n.params;
+    c.noise = &n;
+    c.octaves = std::min<std::uint32_t>(n.octaves, CapillaryFrame::max_octaves);
+    float top = 0.0f;
+    for (std::uint32_t i = 0; i < c.octaves; ++i) {
+      // Octave i's share of the published bounds; the 1e-4 margin covers the float differences.
+      const float lo = capillary_height_bound(np, float(i)), hi = capillary_height_bound(np, float(i + 1));
+      const float slo = capillary_slope_bound(np, float(i)), shi = capillary_slope_bound(np, float(i + 1));
+      c.octave_height[i] = (hi - lo) * (1.0f + 1e-4f);
+      c.octave_slope[i] = (shi - slo) * (1.0f + 1e-4f);
+      noise_total += c.octave_height[i];
+      top = std::max(top, c.octave_height[i]);
+    }
+    const double log2_k = std::log2(double(np.lacunarity));
+    c.max_level = float(c.octaves);
+    c.level_offset = float(std::log2(double(np.base_wavelength) / double(np.samples_per_wavelength)) / log2_k + 1.0);
+    c.inv_log2_lacunarity = float(1.0 / log2_k);
+    // smoothstep' <= 1.5 on the one octave fading at a time; |dlevel/dt| = pixel_angle / (cone ln k).
+    c.level_rate = float(1.5 * double(top) / std::log(double(np.lacunarity)) * (1.0 + 1e-4));
+  }
+  c.z_lo = grid_min - noise_total;
+  c.z_hi = grid_max + noise_total;
+}
+
+detail::MarchContext make_context(const SurfaceFrame& frame, const MarchParams& p) noexcept {
+  const SurfaceFrameView v = frame.view();
+  detail::MarchContext c;
+  c.height = v.height;
+  c.grad_x = v.grad_x;
+  c.grad_y = v.grad_y;
+  c.tile_min = v.tile_min;
+  c.tile_max = v.tile_max;
+  c.tile_slope_x = v.tile_slope_x;
+  c.tile_slope_y = v.tile_slope_y;
+  c.stride = v.stride;
+  c.levels = v.levels;
+  c.cells = float(v.cells);
+  c.stride_f = float(v.stride);
+  c.tiles_per_side = float(v.tiles_per_side);
+  c.inv_tile_cells = 1.0f / float(v.tile_cells);
+  c.centre_x = v.centre_x;
+  c.centre_y = v.centre_y;
+  c.far_height = v.far_height;
+  for (std::uint32_t l = 0; l < v.levels; ++l) {
+    const SurfaceLevel& s = v.level[l];
+    detail::MarchLevel& m = c.level[l];
+    m.origin_x = s.origin_x;
+    m.origin_y = s.origin_y;
+    m.inv_cell = float(1.0 / double(s.cell));
+    m.tile_size = s.cell * float(v.tile_cells);
+    m.reach = s.reach;
+    m.band_start = float((1.0 - double(v.blend_fraction)) * s.reach);
+    m.inv_band = float(1.0 / (double(v.blend_fraction) * s.reach));
+    m.node_base = float(std::size_t(l) * v.level_floats);
+    m.tile_base = float(std::size_t(l) * v.tiles_per_side * v.tiles_per_side);
+  }
+  c.level[v.levels] = c.level[v.levels - 1];
+  c.global = v.global;
+
+  set_ray_params(c, p, c.global.h_min, c.global.h_max);
+  return c;
+}
+
+const detail::KernelTable& table(Isa isa) noexcept { return simd::table_for<detail::KernelTable>(isa); }
+
+void march_row(const detail::KernelTable& k, const SurfaceFrame& frame, const Camera& cam, const MarchParams& params,
+               std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x, float sub_y, const MarchHits& hits) noexcept {
+  const detail::MarchContext c = make_context(frame, params);
+  constexpr std::size_t chunk = 256;  // on the stack: 7 KiB
+  float ox[chunk], oy[chunk], oz[chunk], dx[chunk], dy[chunk], dz[chunk];
+  std::fill(ox, ox + chunk, cam.position[0]);
+  std::fill(oy, oy + chunk, cam.position[1]);
+  std::fill(oz, oz + chunk, cam.position[2]);
+  for (std::size_t i = 0; i < n; i += chunk) {
+    const std::size_t m = std::min(chunk, n - i);
+    camera_row_rays(cam, row, x0 + std::uint32_t(i), m, sub_x, sub_y, dx, dy, dz);
+    const MarchRays rays{ox, oy, oz, dx, dy, dz, nullptr};
+    const auto at = [i](auto* p) { return p != nullptr ? p + i : p; };
+    const MarchHits h{at(hits.t),      at(hits.x),      at(hits.y),           at(hits.z),          at(hits.grad_x),
+                      at(hits.grad_y), at(hits.status), at(hits.noise_level), at(hits.evaluations)};
+    k.march_rays(c, rays, m, h);
+  }
+}
+
+}  // namespace
+
+void march_rays(const SurfaceFrame& frame, const MarchParams& params, const MarchRays& rays, std::size_t n,
+                const MarchHits& hits) noexcept {
+  simd::active_table<detail::KernelTable>().march_rays(make_context(frame, params), rays, n, hits);
+}
+
+void march_rays(Isa isa, const SurfaceFrame& frame, const MarchParams& params, const MarchRays& rays, std::size_t n,
+                const MarchHits& hits) noexcept {
+  table(isa).march_rays(make_context(frame, params), rays, n, hits);
+}
+
+void march_camera_row(const SurfaceFrame& frame, const Camera& camera, const MarchParams& params, std::uint32_t row,
+                      std::uint32_t x0, std::size_t n, float sub_x, float sub_y, const MarchHits& hits) noexcept {
+  march_row(simd::active_table<detail::KernelTable>(), frame, camera, params, row, x0, n, sub_x, sub_y, hits);
+}
+
+void march_camera_row(Isa isa, const SurfaceFrame& frame, const Camera& camera, const MarchParams& params,
+                      std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x, float sub_y,
+                      const MarchHits& hits) noexcept {
+  march_row(table(isa), frame, camera, params, row, x0, n, sub_x, sub_y, hits);
+}
+
+float march_f(const SurfaceFrame& frame, const MarchParams& params, float ox, float oy, float oz, float dx, float dy,
+              float dz, float t) noexcept {
+  using S = simd::scalar;
+  const detail::MarchContext c = make_context(frame, params);
+  bool finite = false;
+  const detail::MarchRay<S> r = detail::make_march_ray<S>(c, ox, oy, oz, dx, dy, dz, finite);
+  return detail::full_g<S>(c, r, t, 1.0f, true);
+}
+
+float march_noise_level(const MarchParams& params, float dz, float t) noexcept {
+  detail::MarchContext c;
+  set_ray_params(c, params, 0.0f, 0.0f);
+  if (c.noise == nullptr) return 0.0f;
+  using S = simd::scalar;
+  bool finite = false;
+  const detail::MarchRay<S> r = detail::make_march_ray<S>(c, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, dz, finite);
+  return detail::noise_level<S>(c, r.level_offset, c.cone_width + t * c.pixel_angle);
+}
+
+float SurfaceFrame::height_at(float x, float y) const noexcept {
+  using S = simd::scalar;
+  const detail::MarchContext c = make_context(*this, MarchParams{});
+  const detail::Located<S> s = detail::locate<S>(c, x, y);
+  return detail::blended<S>(c, c.height, s, true, x, y, c.far_height);
+}
+
+}  // namespace houle

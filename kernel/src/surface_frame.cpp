@@ -1,0 +1,372 @@
+#include "houle/kernel/surface_frame.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <new>
+#include <string>
+
+namespace houle {
+namespace {
+
+constexpr std::size_t align_floats = 16;  // 64 bytes: the widest batch (AVX-512) and a cache line
+constexpr std::uint32_t max_tile_cells = 64;  // finish_level keeps a tile's partner heights on the stack
+
+std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
+bool power_of_two(std::uint32_t n) { return n != 0 && (n & (n - 1)) == 0; }
+
+struct Layout {
+  std::size_t stride, level_floats, tile_floats, total_floats;
+  std::uint32_t tiles;
+};
+
+Layout layout(const SurfaceFrameConfig& c) {
+  Layout l{};
+  l.stride = round_up(std::size_t(c.cells) + 1, align_floats);
+  l.level_floats = round_up(l.stride * (std::size_t(c.cells) + 1), align_floats);
+  l.tiles = c.cells / c.tile_cells;
+  l.tile_floats = round_up(std::size_t(c.levels) * l.tiles * l.tiles, align_floats);
+  // height, grad_x, grad_y; four tile arrays; two fill rows.
+  l.total_floats = 3 * c.levels * l.level_floats + 4 * l.tile_floats + 2 * l.stride;
+  return l;
+}
+
+/// Why `c` is invalid, or an empty field when it is fine.
+Error check(const SurfaceFrameConfig& c) {
+  if (c.levels < 1 || c.levels > SurfaceFrame::max_levels) {
+    return {"surface.levels", "an integer in [1, " + std::to_string(SurfaceFrame::max_levels) + "]"};
+  }
+  if (!power_of_two(c.tile_cells) || c.tile_cells < 2 || c.tile_cells > max_tile_cells) {
+    return {"surface.tile_cells", "a power of two in [2, " + std::to_string(max_tile_cells) + "]"};
+  }
+  // >= 4 tiles per side keeps each level inside the next coarser one (nested bounds, blend partner).
+  if (c.cells % c.tile_cells != 0 || c.cells < 4 * c.tile_cells || c.cells > 8192) {
+    return {"surface.cells", "a multiple of tile_cells, at least 4 tile_cells and at most 8192"};
+  }
+  if (!(c.finest_cell > 0.0f) || !std::isfinite(c.finest_cell) ||
+      !std::isfinite(std::ldexp(double(c.finest_cell) * c.cells, int(c.levels)))) {
+    return {"surface.finest_cell", "a finite cell size > 0 m"};
+  }
+  if (!(c.blend_fraction > 0.0f && c.blend_fraction <= 0.5f)) return {"surface.blend_fraction", "a value in (0, 0.5]"};
+  if (!std::isfinite(c.far_height)) return {"surface.far_height", "a finite height in m"};
+  // Node indices and offsets pass through float in the marcher: keep them below 2^24.
+  if (std::size_t(c.levels) * layout(c).level_floats >= (std::size_t(1) << 24)) {
+    return {"surface", "levels * (cells + 1)^2 too large (node offsets must stay below 2^24)"};
+  }
+  return {};
+}
+
+/// Chebyshev distance range [lo, hi] from (cx, cy) to the points of box [x0, x1] x [y0, y1].
+void chebyshev_range(double x0, double x1, double y0, double y1, double cx, double cy, double& lo, double& hi) {
+  const double ax = std::max({x0 - cx, cx - x1, 0.0}), ay = std::max({y0 - cy, cy - y1, 0.0});
+  lo = std::max(ax, ay);
+  hi = std::max(std::max(std::fabs(x0 - cx), std::fabs(x1 - cx)), std::max(std::fabs(y0 - cy), std::fabs(y1 - cy)));
+}
+
+/// Widen bounds for the rounding of the marcher's float bilinear interpolation and blend (a few ulps
+/// of the heights involved; 2^-20 relative is 16 ulps).
+void add_margins(float& h_min, float& h_max, float& sx, float& sy) {
+  const float m = std::ldexp(std::max(std::fabs(h_min), std::fabs(h_max)), -20) + 1e-30f;
+  h_min -= m;
+  h_max += m;
+  sx += std::ldexp(sx, -16) + 1e-30f;
+  sy += std::ldexp(sy, -16) + 1e-30f;
+}
+
+}  // namespace
+
+void SurfaceFrame::FreeAligned::operator()(float* p) const noexcept {
+  ::operator delete(p, std::align_val_t{align_floats * sizeof(float)});
+}
+
+std::size_t SurfaceFrame::bytes_bound(const SurfaceFrameConfig& config) noexcept {
+  if (!check(config).field.empty()) return 0;
+  return layout(config).total_floats * sizeof(float);
+}
+
+Expected<SurfaceFrame> SurfaceFrame::create(const SurfaceFrameConfig& config) {
+  if (Error e = check(config); !e.field.empty()) return e;
+  const Layout l = layout(config);
+  float* p = static_cast<float*>(
+      ::operator new(l.total_floats * sizeof(float), std::align_val_t{align_floats * sizeof(float)}, std::nothrow));
+  if (p == nullptr) return Error{"surface", "out of memory (" + std::to_string(l.total_floats * sizeof(float)) + " bytes)"};
+  SurfaceFrame f;
+  f.config_ = config;
+  f.memory_.reset(p);
+  f.stride_ = l.stride;
+  f.level_floats_ = l.level_floats;
+  f.tiles_ = l.tiles;
+  // Zeroed once so that an unfilled frame reads as flat water rather than garbage.
+  std::fill(p, p + l.total_floats, 0.0f);
+  const std::size_t grid = config.levels * l.level_floats;
+  f.height_ = p;
+  f.grad_x_ = p + grid;
+  f.grad_y_ = p + 2 * grid;
+  f.tile_min_ = p + 3 * grid;
+  f.tile_max_ = f.tile_min_ + l.tile_floats;
+  f.tile_sx_ = f.tile_max_ + l.tile_floats;
+  f.tile_sy_ = f.tile_sx_ + l.tile_floats;
+  f.row_x_ = f.tile_sy_ + l.tile_floats;
+  f.row_y_ = f.row_x_ + l.stride;
+  f.begin_frame(0.0f, 0.0f);
+  f.global_ = {config.far_height, config.far_height, 0.0f, 0.0f};
+  return f;
+}
+
+SurfaceFrame::SurfaceFrame(SurfaceFrame&&) noexcept = default;
+SurfaceFrame& SurfaceFrame::operator=(SurfaceFrame&&) noexcept = default;
+SurfaceFrame::~SurfaceFrame() = default;
+
+void SurfaceFrame::begin_frame(float centre_x, float centre_y) noexcept {
+  centre_x_ = centre_x;
+  centre_y_ = centre_y;
+  const double n = config_.cells, tc = config_.tile_cells;
+  for (std::uint32_t l = 0; l < config_.levels; ++l) {
+    const double cell = std::ldexp(double(config_.finest_cell), int(l)), tile = tc * cell;
+    SurfaceLevel& s = levels_[l];
+    // Origin on the tile lattice nearest to a grid centred on c: nodes stay at fixed world points.
+    s.origin_x = float(std::floor((centre_x - 0.5 * n * cell) / tile + 0.5) * tile);
+    s.origin_y = float(std::floor((centre_y - 0.5 * n * cell) / tile + 0.5) * tile);
+    s.cell = float(cell);
+    // The origin is within half a tile of centred; one more cell keeps bilinear taps inside.
+    s.reach = float((0.5 * n - 0.5 * tc - 1.0) * cell);
+  }
+}
+
+void SurfaceFrame::set_noise_bounds(float height_m, float slope) noexcept {
+  noise_height_ = std::isfinite(height_m) && height_m > 0.0f ? height_m : 0.0f;
+  noise_slope_ = std::isfinite(slope) && slope > 0.0f ? slope : 0.0f;
+}
+
+float SurfaceFrame::slope_bound() const noexcept {
+  return std::sqrt(global_.slope_x * global_.slope_x + global_.slope_y * global_.slope_y) + noise_slope_;
+}
+
+TileBounds SurfaceFrame::tile(std::uint32_t l, std::uint32_t tx, std::uint32_t ty) const noexcept {
+  const std::size_t i = (std::size_t(l) * tiles_ + ty) * tiles_ + tx;
+  return {tile_min_[i], tile_max_[i], tile_sx_[i], tile_sy_[i]};
+}
+
+SurfaceFrameView SurfaceFrame::view() const noexcept {
+  SurfaceFrameView v;
+  v.levels = config_.levels;
+  v.cells = config_.cells;
+  v.tile_cells = config_.tile_cells;
+  v.tiles_per_side = tiles_;
+  v.stride = stride_;
+  v.level_floats = level_floats_;
+  v.centre_x = centre_x_;
+  v.centre_y = centre_y_;
+  v.blend_fraction = config_.blend_fraction;
+  v.far_height = config_.far_height;
+  v.height = height_;
+  v.grad_x = grad_x_;
+  v.grad_y = grad_y_;
+  v.tile_min = tile_min_;
+  v.tile_max = tile_max_;
+  v.tile_slope_x = tile_sx_;
+  v.tile_slope_y = tile_sy_;
+  v.level = levels_.data();
+  v.global = global_;
+  return v;
+}
+
+void SurfaceFrame::fill(SurfaceSampler sampler, void* context) noexcept {
+  const std::uint32_t nodes = config_.cells + 1;
+  for (std::uint32_t l = 0; l < config_.levels; ++l) {
+    const SurfaceLevel& s = levels_[l];
+    // Node coordinates exactly as the marcher's grid coordinates invert them: origin + i * cell.
+    for (std::uint32_t i = 0; i < nodes; ++i) row_x_[i] = s.origin_x + float(i) * s.cell;
+    for (std::uint32_t j = 0; j < nodes; ++j) {
+      std::fill(row_y_, row_y_ + nodes, s.origin_y + float(j) * s.cell);
+      const std::size_t o = j * stride_;
+      sampler(context, row_x_, row_y_, nodes, heights(l) + o, grad_x(l) + o, grad_y(l) + o);
+    }
+    // Level l - 1's bounds need this level (its blend partner): finish it while its rows are warm.
+    if (l > 0) finish_level(l - 1);
+  }
+  finish_level(config_.levels - 1);
+  finish_global();
+}
+
+void SurfaceFrame::finish_frame() noexcept {
+  for (std::uint32_t l = 0; l < config_.levels; ++l) finish_level(l);
+  finish_global();
+}
+
+void SurfaceFrame::finish_level(std::uint32_t l) noexcept {
+  const SurfaceLevel& s = levels_[l];
+  const std::uint32_t tc = config_.tile_cells, nt = tiles_;
+  const bool last = l + 1 == config_.levels;
+  const float* h = heights(l);
+  const double cx = centre_x_, cy = centre_y_, cell = s.cell, tile = double(tc) * cell;
+  const double beta = config_.blend_fraction, band_hi = s.reach, band_lo = (1.0 - beta) * s.reach;
+  // |dw/dx| <= max smoothstep' / band width; the blend adds |h_next - h_l| times that to the slope.
+  const float blend_gradient = float(1.5 / (beta * double(s.reach)));
+  // The partner (next coarser level) at this level's nodes: node (i, j) is at partner coordinates
+  // (px + i/2, py + j/2), px and py integers because origins lie on this level's tile lattice.
+  const float* ph = last ? nullptr : heights(l + 1);
+  std::int64_t px = 0, py = 0;
+  if (!last) {
+    const SurfaceLevel& p = levels_[l + 1];
+    px = std::llround((double(s.origin_x) - p.origin_x) / p.cell);
+    py = std::llround((double(s.origin_y) - p.origin_y) / p.cell);
+  }
+  float partner[(max_tile_cells + 1) * (max_tile_cells + 1)];
+  const std::size_t base = std::size_t(l) * nt * nt;
+
+  for (std::uint32_t tj = 0; tj < nt; ++tj) {
+    for (std::uint32_t ti = 0; ti < nt; ++ti) {
+      const std::uint32_t i0 = ti * tc, j0 = tj * tc;
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo, sx = 0.0f, sy = 0.0f;
+      // Bilinear pieces take their extremes and steepest edges at nodes: nodes and edges suffice.
+      for (std::uint32_t j = j0; j <= j0 + tc; ++j) {
+        const float* row = h + j * stride_;
+        for (std::uint32_t i = i0; i <= i0 + tc; ++i) {
+          lo = std::min(lo, row[i]);
+          hi = std::max(hi, row[i]);
+        }
+        for (std::uint32_t i = i0; i < i0 + tc; ++i) sx = std::max(sx, std::fabs(row[i + 1] - row[i]));
+        if (j < j0 + tc) {
+          for (std::uint32_t i = i0; i <= i0 + tc; ++i) sy = std::max(sy, std::fabs(row[i + stride_] - row[i]));
+        }
+      }
+      float blend_slope = 0.0f;
+      const double x0 = s.origin_x + ti * tile, y0 = s.origin_y + tj * tile;
+      double r_lo, r_hi;
+      chebyshev_range(x0, x0 + tile, y0, y0 + tile, cx, cy, r_lo, r_hi);
+      if (r_lo <= band_hi && r_hi >= band_lo) {
+        // In the blend band H = (1 - w) h_l + w h_next, with h_next bilinear on each of this level's
+        // cells too (cells nest): bound both at the nodes, plus |h_next - h_l| |grad w|.
+        const std::uint32_t m = tc + 1;
+        for (std::uint32_t j = 0; j < m; ++j) {
+          for (std::uint32_t i = 0; i < m; ++i) {
+            float v = config_.far_height;
+            if (!last) {
+              const std::uint32_t gi = i0 + i, gj = j0 + j;
+              const std::size_t ci = std::size_t(px + gi / 2), cj = std::size_t(py + gj / 2);
+              const float fu = (gi & 1) ? 0.5f : 0.0f, fv = (gj & 1) ? 0.5f : 0.0f;
+              const float* q = ph + cj * stride_ + ci;
+              const float a = fu > 0.0f ? q[0] + fu * (q[1] - q[0]) : q[0];
+              const float b = fu > 0.0f ? q[stride_] + fu * (q[stride_ + 1] - q[stride_]) : q[stride_];
+              v = fv > 0.0f ? a + fv * (b - a) : a;
+            }
+            partner[j * m + i] = v;
+          }
+        }
+        float diff = 0.0f, psx = 0.0f, psy = 0.0f;
+        for (std::uint32_t j = 0; j < m; ++j) {
+          const float* row = h + (j0 + j) * stride_ + i0;
+          const float* prow = partner + j * m;
+          for (std::uint32_t i = 0; i < m; ++i) {
+            lo = std::min(lo, prow[i]);
+            hi = std::max(hi, prow[i]);
+            diff = std::max(diff, std::fabs(prow[i] - row[i]));
+            if (i + 1 < m) psx = std::max(psx, std::fabs(prow[i + 1] - prow[i]));
+            if (j + 1 < m) psy = std::max(psy, std::fabs(prow[i + m] - prow[i]));
+          }
+        }
+        sx = std::max(sx, psx);
+        sy = std::max(sy, psy);
+        blend_slope = blend_gradient * diff;
+      }
+      float slope_x = sx / s.cell + blend_slope, slope_y = sy / s.cell + blend_slope;
+      add_margins(lo, hi, slope_x, slope_y);
+      const std::size_t k = base + std::size_t(tj) * nt + ti;
+      tile_min_[k] = lo;
+      tile_max_[k] = hi;
+      tile_sx_[k] = slope_x;
+      tile_sy_[k] = slope_y;
+    }
+  }
+
+  if (l == 0) return;
+  // A level is sampled only outside the finer level's reach, but a ray stepping through one of its
+  // tiles may enter that inner square: merge the finer tiles there, so that a tile bounds H over all
+  // of it within this level's reach. The finer tiles are whole halves of this level's tiles.
+  const SurfaceLevel& f = levels_[l - 1];
+  const double inner = f.reach, ftile = double(tc) * f.cell;
+  const std::int64_t qx = std::llround((double(s.origin_x) - f.origin_x) / ftile);
+  const std::int64_t qy = std::llround((double(s.origin_y) - f.origin_y) / ftile);
+  const std::size_t fbase = std::size_t(l - 1) * nt * nt;
+  for (std::uint32_t tj = 0; tj < nt; ++tj) {
+    for (std::uint32_t ti = 0; ti < nt; ++ti) {
+      const double x0 = s.origin_x + ti * tile, y0 = s.origin_y + tj * tile;
+      double r_lo, r_hi;
+      chebyshev_range(x0, x0 + tile, y0, y0 + tile, cx, cy, r_lo, r_hi);
+      if (r_lo > inner) continue;
+      const std::size_t k = base + std::size_t(tj) * nt + ti;
+      for (int b = 0; b < 2; ++b) {
+        for (int a = 0; a < 2; ++a) {
+          const std::int64_t ci = qx + 2 * std::int64_t(ti) + a, cj = qy + 2 * std::int64_t(tj) + b;
+          if (ci < 0 || cj < 0 || ci >= std::int64_t(nt) || cj >= std::int64_t(nt)) continue;
+          const double fx0 = f.origin_x + double(ci) * ftile, fy0 = f.origin_y + double(cj) * ftile;
+          double f_lo, f_hi;
+          chebyshev_range(fx0, fx0 + ftile, fy0, fy0 + ftile, cx, cy, f_lo, f_hi);
+          if (f_lo > inner) continue;
+          const std::size_t fk = fbase + std::size_t(cj) * nt + std::size_t(ci);
+          tile_min_[k] = std::min(tile_min_[k], tile_min_[fk]);
+          tile_max_[k] = std::max(tile_max_[k], tile_max_[fk]);
+          tile_sx_[k] = std::max(tile_sx_[k], tile_sx_[fk]);
+          tile_sy_[k] = std::max(tile_sy_[k], tile_sy_[fk]);
+        }
+      }
+    }
+  }
+}
+
+void SurfaceFrame::finish_global() noexcept {
+  // The last level's tiles within its reach bound everything inside it (they include the finer
+  // levels); beyond is the far plane.
+  const std::uint32_t l = config_.levels - 1, nt = tiles_;
+  const SurfaceLevel& s = levels_[l];
+  const double tile_m = double(config_.tile_cells) * s.cell;
+  TileBounds g{config_.far_height, config_.far_height, 0.0f, 0.0f};
+  for (std::uint32_t tj = 0; tj < nt; ++tj) {
+    for (std::uint32_t ti = 0; ti < nt; ++ti) {
+      const double x0 = s.origin_x + ti * tile_m, y0 = s.origin_y + tj * tile_m;
+      double r_lo, r_hi;
+      chebyshev_range(x0, x0 + tile_m, y0, y0 + tile_m, centre_x_, centre_y_, r_lo, r_hi);
+      if (r_lo > s.reach) continue;
+      const TileBounds t = tile(l, ti, tj);
+      g.h_min = std::min(g.h_min, t.h_min);
+      g.h_max = std::max(g.h_max, t.h_max);
+      g.slope_x = std::max(g.slope_x, t.slope_x);
+      g.slope_y = std::max(g.slope_y, t.slope_y);
+    }
+  }
+  global_ = g;
+}
+
+namespace {
+
+struct GerstnerFill {
+  const GerstnerFrame* waves;
+  int newton_steps;
+  Isa isa;
+  bool dispatched;
+};
+
+void gerstner_sampler(void* context, const float* x, const float* y, std::size_t n, float* h, float* gx,
+                      float* gy) noexcept {
+  const auto& c = *static_cast<const GerstnerFill*>(context);
+  if (c.dispatched) {
+    gerstner_eval(*c.waves, x, y, n, {h, gx, gy}, c.newton_steps);
+  } else {
+    gerstner_eval(c.isa, *c.waves, x, y, n, {h, gx, gy}, c.newton_steps);
+  }
+}
+
+}  // namespace
+
+void fill_gerstner(SurfaceFrame& frame, const GerstnerFrame& waves, int newton_steps) noexcept {
+  GerstnerFill c{&waves, newton_steps, active_isa(), true};
+  frame.fill(&gerstner_sampler, &c);
+}
+
+void fill_gerstner(Isa isa, SurfaceFrame& frame, const GerstnerFrame& waves, int newton_steps) noexcept {
+  GerstnerFill c{&waves, newton_steps, isa, false};
+  frame.fill(&gerstner_sampler, &c);
+}
+
+}  // namespace houle

@@ -1,0 +1,241 @@
+// The scene model: everything a coastal scene is made of, as plain structs with sensible defaults.
+//
+// Frame: x east, y north, z up, metres; still water at z = 0; depth h is positive below it (h <= 0 is
+// land). Angles in a plane are degrees counter-clockwise from +x (a train with direction_deg = 90
+// travels towards +y). A Scene is data only: `validate` checks it and says which field is wrong and
+// what was expected; frontends fill it from files (images go into SeaFloor::height_map).
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "houle/kernel/expected.hpp"
+#include "houle/sim/diffraction.hpp"
+
+namespace houle {
+
+struct Point2 {
+  double x = 0.0, y = 0.0;  ///< m
+};
+struct Point3 {
+  double x = 0.0, y = 0.0, z = 0.0;  ///< m
+};
+/// Linear (not gamma-encoded) RGB reflectance, each in [0, 1].
+struct LinearRgb {
+  float r = 0.5f, g = 0.5f, b = 0.5f;
+};
+
+/// The rectangle where water is simulated (rays are traced inside it).
+struct Domain {
+  double x_min = 0.0, y_min = 0.0;    ///< m
+  double x_max = 200.0, y_max = 200.0;  ///< m
+};
+
+// ---- Sea floor: a base, additive features, optionally a height map -----------------------------
+
+enum class FloorKind : std::uint8_t {
+  flat,          ///< depth everywhere
+  planar_beach,  ///< depth grows seaward with `slope` from 0 at the shoreline up to `depth`
+};
+
+struct FloorBase {
+  FloorKind kind = FloorKind::flat;
+  double depth = 20.0;  ///< m > 0: the flat depth, or the beach's offshore depth (its plateau)
+  /// Planar beach only: tan of the bottom slope, > 0 (depth gained per metre seaward; 1:50 = 0.02).
+  double slope = 0.02;
+  /// Planar beach only: direction from sea towards shore, degrees.
+  double shoreward_deg = 90.0;
+  /// Planar beach only: a point of the still-water shoreline (depth 0 there). Landward of it the
+  /// floor keeps rising with the same slope (negative depth).
+  Point2 shoreline{0.0, 0.0};
+};
+
+/// Elliptic mound (height > 0, a shoal or a submerged rock) or pit (height < 0).
+/// Profile height (1 - u)^3, u = (x'/a)^2 + (y'/b)^2 < 1: C2, flat top, zero slope at the rim.
+struct Shoal {
+  Point2 center{};
+  double semi_axis_a = 20.0;      ///< m > 0, along orientation_deg
+  double semi_axis_b = 20.0;      ///< m > 0, across it (equal to a: circular)
+  double orientation_deg = 0.0;
+  double height = 5.0;            ///< m the floor rises at the centre (depth decreases by it)
+};
+
+/// Ridge along an infinite line (an along-shore bar): height (1 - (d/half_width)^2)^3 at distance d.
+struct Bar {
+  Point2 point{};                 ///< a point of the crest line
+  double along_deg = 0.0;         ///< direction of the crest line
+  double half_width = 10.0;       ///< m > 0
+  double height = 1.5;            ///< m the floor rises on the crest line (negative: a trough)
+};
+
+/// Trough along a segment with rounded ends: extra depth (1 - (d/half_width)^2)^3 at distance d from
+/// the segment [from, to].
+struct Channel {
+  Point2 from{}, to{};
+  double half_width = 5.0;        ///< m > 0
+  double depth = 2.0;             ///< m the floor is lowered on the axis (negative: a levee)
+};
+
+enum class HeightMapMode : std::uint8_t {
+  absolute,  ///< the map is the depth; the base is ignored
+  additive,  ///< the map is added to the base's depth
+};
+
+/// Sampled depth (an image, a survey). Sample (i, j) lies at origin + (i, j) * cell; it is
+/// interpolated bicubically (Catmull-Rom, C1; the stencil is mirrored at the edges, so the slope
+/// across an edge is 0 there) and clamped to its edge values outside.
+struct HeightMap {
+  std::uint32_t nx = 0, ny = 0;   ///< samples per row / column, each >= 2
+  Point2 origin{};                ///< m, position of sample (0, 0)
+  double cell = 1.0;              ///< m between samples, > 0
+  std::vector<float> depth;       ///< m, nx * ny values, row-major (i fastest); positive = water
+  HeightMapMode mode = HeightMapMode::absolute;
+};
+
+struct SeaFloor {
+  FloorBase base{};
+  std::vector<Shoal> shoals;
+  std::vector<Bar> bars;
+  std::vector<Channel> channels;
+  std::optional<HeightMap> height_map;
+};
+
+// ---- Structures and objects -----------------------------------------------------------------------
+
+/// A sea wall, breakwater or jetty: a thick polyline (capsules of radius thickness/2 around each
+/// segment). Its ends inside the domain and in water are pierheads (diffraction sources); ends on the
+/// domain edge or on land are not (the wall continues beyond them).
+struct Wall {
+  std::vector<Point2> points;     ///< >= 2, consecutive points distinct
+  double thickness = 2.0;         ///< m >= 0
+  double reflection = 0.5;        ///< alpha in [0, 1]: 1 rigid and fully reflecting, 0 absorbing
+  double crest_height = 1.5;      ///< m above still water (for rendering)
+};
+
+struct Box {
+  Point3 center{};
+  Point3 half_extent{1.0, 1.0, 1.0};  ///< m, each > 0
+  double yaw_deg = 0.0;               ///< rotation about z
+  LinearRgb colour{};
+};
+
+struct Sphere {
+  Point3 center{};
+  double radius = 1.0;  ///< m > 0
+  LinearRgb colour{};
+};
+
+// ---- Waves ---------------------------------------------------------------------------------------
+
+/// A monochromatic long-crested train. Give exactly one of period and wavelength.
+struct WaveTrain {
+  double direction_deg = 90.0;            ///< direction of travel (used when direction is empty)
+  std::optional<Point2> direction;        ///< direction of travel as a vector (any non-zero length)
+  std::optional<double> period;           ///< s > 0
+  std::optional<double> wavelength;       ///< m > 0, deep-water L0 = g T^2 / (2 pi)
+  /// m >= 0, in deep water (A0). Where rays enter the domain it is A0 Ks(h) (shoaled to the local depth).
+  /// At most the Stokes limit H/L0 = 0.142, i.e. A0 <= 0.071 L0.
+  double amplitude = 0.5;
+  double phase = 0.0;                     ///< rad, added to the train's phase
+  double steepness = 0.5;                 ///< Gerstner q in [0, 1] (0: sine profile)
+};
+
+/// Short-wave ripples (houle::CapillaryParams in the kernel).
+struct CapillaryNoise {
+  double amplitude = 0.01;        ///< m >= 0; 0 switches the noise off
+  double base_wavelength = 0.5;   ///< m > 0, lattice spacing of the coarsest octave
+  double lacunarity = 2.0;        ///< frequency ratio between octaves, in [1.25, 4]
+  int max_octaves = 6;            ///< in [0, 8]
+  double time_scale = 1.0;        ///< >= 0, multiplies the ripples' drift speed (0 freezes them)
+};
+
+// ---- Light, view, water ---------------------------------------------------------------------------
+
+struct Sun {
+  double azimuth_deg = 200.0;  ///< direction towards the sun, in the horizontal plane
+  double elevation_deg = 35.0;  ///< above the horizon, in [-90, 90]
+};
+
+struct Sky {
+  double turbidity = 3.0;  ///< Preetham turbidity, in [1.7, 10]
+};
+
+struct Camera {
+  Point3 position{100.0, -20.0, 6.0};
+  Point3 look_at{100.0, 80.0, 0.0};
+  double vertical_fov_deg = 50.0;  ///< in (0, 180)
+};
+
+struct Water {
+  double extra_absorption = 0.0;        ///< 1/m >= 0, added to pure water's (turbidity, plankton)
+  double dominant_wavelength_nm = 490;  ///< sea colour, in [380, 780]
+};
+
+// ---- Dynamic Wave Tracing settings ---------------------------------------------------------------
+
+/// Accuracy knobs of the ray tracer (wave_rays.hpp). Defaults are the paper's (Fig. 4).
+struct DwtSettings {
+  /// Initial rays per train across the front; 0: front width / insertion distance, rounded up.
+  std::uint32_t initial_rays = 0;
+  /// m across the crests covered by the initial rays, centred on the domain; 0: the whole domain.
+  double front_width = 0.0;
+  /// m, arc-length step where a ray enters the domain. Rays advance by equal phase increments
+  /// (k_entry * step), so the step scales with the local wavelength and sample j of every ray lies on
+  /// the same crest.
+  double step = 0.4;
+  /// m, b_max: a ray is inserted between live neighbours farther apart than this.
+  double insertion_distance = 1.0;
+  /// m, rays stop where the depth falls below max(min_depth, min_depth_wavelengths * L0).
+  double min_depth = 0.02;
+  double min_depth_wavelengths = 0.01;
+  /// gamma_b: the wave height never exceeds gamma_b h (McCowan 0.78; see physics.md 2.6).
+  double breaker_index = 0.78;
+  /// Cap of the refraction coefficient Kr at caustics (physics.md 2.5).
+  double max_refraction_coefficient = 2.5;
+  /// Diffraction at pierheads: behind each one a fan of DIFFRACTED rays carries K' of this model.
+  bool diffraction = true;
+  DiffractionModel diffraction_model = DiffractionModel::exact;
+  /// Caps that bound memory and time (dwt_bound); beyond them insertion stops and the stats say so.
+  std::uint32_t max_rays = 1u << 15;      ///< per train
+  std::uint32_t max_samples = 1u << 22;   ///< per train
+};
+
+// ---- The scene -----------------------------------------------------------------------------------
+
+struct Scene {
+  Domain domain{};
+  SeaFloor floor{};
+  std::vector<Wall> walls;
+  std::vector<WaveTrain> trains;
+  CapillaryNoise capillary{};
+  std::vector<Box> boxes;
+  std::vector<Sphere> spheres;
+  Sun sun{};
+  Sky sky{};
+  Camera camera{};
+  Water water{};
+  DwtSettings dwt{};
+};
+
+/// The scene unchanged if it is valid; otherwise the first problem, e.g.
+/// {"trains[1].period", "a finite value > 0 s, got -3"}.
+Expected<Scene> validate(Scene scene);
+
+/// omega = 2 pi / T (rad/s) of a train, from its period or its deep-water wavelength; 0 if neither
+/// is a positive finite number.
+double train_omega(const WaveTrain& train) noexcept;
+/// Unit direction of travel of a train (from `direction` when set, else `direction_deg`); {1, 0} for a
+/// zero or non-finite vector.
+Point2 train_direction(const WaveTrain& train) noexcept;
+
+/// The built-in coast: a 1:40 sloping beach, a jetty with a pierhead in the water, three trains from
+/// the sea, capillary ripples and two submerged rocks. Valid by construction.
+Scene builtin_coast();
+
+/// The paper's Fig. 4 / Plate 2 scene: 100 m x 100 m flat bottom, a semi-infinite sea wall from the
+/// west edge to the middle, 70 initial rays, 0.4 m step, 1.0 m insertion distance. The initial front
+/// spans the whole 100 m (1.43 m spacing), so the first insertion pass already splits every tube:
+/// physics.md 2.1 notes the paper does not say which reading it used.
+Scene paper_fig4();
+
+}  // namespace houle

@@ -1,0 +1,163 @@
+// Dynamic Wave Tracing (DWT, [GL98] and physics.md 2, 4.7, 5): wave orthogonals traced once per scene
+// over the sea floor, per train, with refraction, shoaling, ray insertion, caustic caps, breaking,
+// walls and diffraction fans at pierheads.
+//
+// How a train is traced (the choices physics.md leaves open, and why):
+// - Rays start where the train enters the domain, on a straight front perpendicular to its direction
+//   (outside the domain the sea is taken as uniform at the entry depth: phase = k_entry x distance
+//   from the upstream corner's wavefront, amplitude A0 Ks(h_entry), direction unchanged).
+// - Equal-phase stepping (physics.md 2.2): rays advance by the same phase increment
+//   dphi = k_ref * step (k_ref: the deepest entry point's k), i.e. ds = dphi / k. Sample j of every
+//   ray then lies on the same crest, so neighbours are compared, inserted and tessellated on a common
+//   wavefront, and samples per wavelength stay constant as waves shorten towards the shore.
+// - Integration: classical RK4 in phi of x, y, theta (bending with the PHASE speed, dtheta/ds =
+//   -(1/C) dC/dn), plus s and travel time; sub-steps keep ds <= a quarter of the floor's length scale
+//   and the turn per sub-step <= 0.05 rad. A uniform floor is stepped exactly (straight lines).
+// - Amplitude: energy flux in ray tubes, incrementally, A_j+1 = A_j sqrt(Cg_j b_j / (Cg_j+1 b_j+1)),
+//   b = mean perpendicular spacing to the neighbours over the tubes that exist at both steps (a new,
+//   dead or crossed neighbour changes nothing at that step: amplitude stays continuous). In a
+//   diffraction fan b / d replaces b (eq. 7: the radial spreading is in K' already). Caps: Kr <=
+//   max_refraction_coefficient (caustics), then H <= gamma_b h and H <= 0.142 L tanh kh (breaking;
+//   the excess is dissipated and the ray flagged BROKEN).
+// - Insertion: between live neighbours of one family farther apart than b_max (never across a dead or
+//   crossed neighbour): at the midpoint on the common wavefront, bisecting direction, mean amplitude.
+//   In a diffraction fan the new ray starts at the pierhead with the bisecting angle and is traced up
+//   to the current wavefront.
+// - Diffraction ([GL98] 2.2.1): when a ray dies on a wall and its live neighbour R1 has passed one of
+//   that wall's pierheads M, a fan of DIFFRACTED rays from R1's direction to the wall's direction is
+//   born at M (on the lee corner of a thick wall), with 22.5 degree spacing, refined later by
+//   insertion. DIFFRACTED samples carry K' = |F| of the chosen model with the wall's reflection
+//   coefficient; undiffracted samples near the shadow line carry the incident-only |G(s1)| (they
+//   bring no reflected wave), blended to 1 between v = 4 and 8 (physics.md 4.3 item 7). The two meet
+//   at the shadow line with a step of |F| - 1/2 (0.06 at r = L, 0.03 at 5 L for a rigid wall).
+//
+// Nothing here throws, prints or reads the environment; results depend only on (scene, settings).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "houle/kernel/expected.hpp"
+#include "houle/sim/scene.hpp"
+
+namespace houle {
+
+/// Per-ray flags: how the ray was born and how it ended (DIFFRACTED, BROKEN, HIT_WALL, LEFT_DOMAIN,
+/// CROSSED, DEAD of the paper and physics.md 2.2).
+namespace ray_flag {
+inline constexpr std::uint8_t diffracted = 1u << 0;     ///< born at a pierhead
+inline constexpr std::uint8_t broken = 1u << 1;         ///< its height reached the breaking limit
+inline constexpr std::uint8_t hit_wall = 1u << 2;       ///< ended on a wall
+inline constexpr std::uint8_t left_domain = 1u << 3;    ///< ended on the domain's edge
+inline constexpr std::uint8_t crossed = 1u << 4;        ///< crossed a neighbour (a caustic)
+inline constexpr std::uint8_t dead = 1u << 5;           ///< ended (any reason; set with the reason)
+inline constexpr std::uint8_t reached_shore = 1u << 6;  ///< ended where the depth fell to h_min
+inline constexpr std::uint8_t truncated = 1u << 7;      ///< stopped by a cap (path length or samples)
+}  // namespace ray_flag
+
+/// Per-sample flags.
+namespace sample_flag {
+inline constexpr std::uint8_t broken = 1u << 0;     ///< amplitude limited by breaking here
+inline constexpr std::uint8_t crossed = 1u << 1;    ///< a tube of this ray has crossed (at or before here)
+inline constexpr std::uint8_t off_grid = 1u << 2;   ///< not on the phase grid: a ray's start or end point
+inline constexpr std::uint8_t tube_next = 1u << 3;  ///< the next ray (r + 1) has a sample on the same step
+                                                    ///< and the tube between them is sound: a quad may join them
+inline constexpr std::uint8_t diffraction = 1u << 4;  ///< a diffraction coefficient was applied
+}  // namespace sample_flag
+
+/// One train's rays. Rays are ordered across the front, r + 1 lying to the left of r (counter-
+/// clockwise from the direction of travel); neighbours on a step are r and r + 1 where the
+/// tube_next flag says so (a dead ray between two live ones is a cut: nothing joins across it).
+/// Samples of ray r are [sample_begin[r], sample_begin[r + 1]); on-grid samples are on step
+/// first_step[r], first_step[r] + 1, ... in order (an off-grid first sample comes before them, an
+/// off-grid last sample after them), and sample s on step j has phase exactly phase0 + j * phase_step.
+struct WaveRays {
+  // The train.
+  double omega = 0.0;          ///< rad/s
+  double direction_x = 1.0, direction_y = 0.0;  ///< unit direction of travel where rays enter
+  double amplitude0 = 0.0;     ///< m, deep-water amplitude A0
+  double phase_step = 0.0;     ///< rad between steps (dphi)
+  double phase0 = 0.0;         ///< rad, phase of step 0 (0: the wavefront through the upstream corner)
+  double min_depth = 0.0;      ///< m, h_min where rays stopped
+  /// No rays were needed (uniform floor, no walls, or amplitude 0): straight crests with wavenumber
+  /// analytic_k and amplitude A0 Ks everywhere, phase analytic_k * (direction . (x, y) - upstream).
+  bool analytic = false;
+  double analytic_k = 0.0;     ///< rad/m
+  double analytic_amplitude = 0.0;  ///< m
+
+  // Per ray (ray_count() entries; sample_begin has one more).
+  std::vector<std::uint32_t> sample_begin;
+  std::vector<std::int32_t> first_step;    ///< step of the first on-grid sample
+  std::vector<std::uint8_t> flags;         ///< ray_flag bits
+  std::vector<std::int32_t> parent_a, parent_b;  ///< inserted rays: their two parents; -1 otherwise
+  std::vector<std::int32_t> pierhead;      ///< DIFFRACTED rays: index into `pierheads`; -1 otherwise
+
+  // Per sample.
+  std::vector<double> x, y;        ///< m
+  std::vector<double> theta;       ///< rad, direction of the ray (of travel of the crest)
+  std::vector<double> k;           ///< rad/m, local wavenumber
+  std::vector<double> amplitude;   ///< m, A (height H = 2A), all factors and caps applied
+  std::vector<double> phase;       ///< rad, phi = integral of k ds (the surface phase is phi - omega t + train phase)
+  std::vector<double> time;        ///< s, travel time integral of ds / Cg
+  std::vector<std::uint8_t> sample_flags;  ///< sample_flag bits
+
+  /// Pierheads that spawned a fan for this train.
+  struct Pierhead {
+    double x = 0.0, y = 0.0;     ///< M, m (the wall's end point)
+    double origin_x = 0.0, origin_y = 0.0;  ///< where the fan's rays start (M, or its lee corner)
+    std::uint32_t wall = 0;      ///< index into Scene::walls
+    double phase = 0.0;          ///< rad, incident phase at M
+    double amplitude = 0.0;      ///< m, incident amplitude A_M
+    double wavenumber = 0.0;     ///< rad/m at M
+  };
+  std::vector<Pierhead> pierheads;
+
+  std::size_t ray_count() const noexcept { return flags.size(); }
+  std::size_t sample_count() const noexcept { return x.size(); }
+};
+
+/// What tracing did: tests prove skipped work is zero; `houle info` reports it.
+struct DwtStats {
+  std::uint64_t rays = 0;             ///< all rays traced (initial + inserted + diffracted)
+  std::uint64_t initial_rays = 0;
+  std::uint64_t inserted_rays = 0;    ///< by the spacing rule, diffracted insertions included
+  std::uint64_t diffracted_rays = 0;  ///< DIFFRACTED rays (fans and their insertions)
+  std::uint64_t samples = 0;
+  std::uint64_t steps = 0;            ///< wavefront steps swept
+  std::uint64_t fans = 0;             ///< pierheads that spawned a fan
+  std::uint64_t diffraction_evaluations = 0;  ///< diffraction coefficients computed
+  std::uint64_t crossings = 0;        ///< neighbour pairs that crossed
+  std::uint64_t broken_rays = 0;
+  std::uint64_t wall_hits = 0, left_domain = 0, reached_shore = 0;
+  std::uint64_t insertions_refused = 0;  ///< wanted but refused at the max_rays cap
+  bool truncated = false;             ///< a cap (max_rays, max_samples, path length) was reached
+  DwtStats& operator+=(const DwtStats& o) noexcept;
+};
+
+struct WaveField {
+  std::vector<WaveRays> trains;  ///< one per Scene::trains entry, same order
+  DwtStats stats;                ///< totals over the trains
+};
+
+/// Effect plan: does train `i` need rays? No when its amplitude is 0, or when there is no wall and the
+/// floor is uniform or deep everywhere in the domain (depth >= L0 / 2: C within 0.2 % of deep water),
+/// where crests are straight and the phase is analytic.
+bool train_needs_rays(const Scene& scene, std::size_t train) noexcept;
+/// Effect plan: is there any diffraction work (a wall end in water inside the domain, diffraction on)?
+bool scene_has_pierheads(const Scene& scene) noexcept;
+
+/// Worst case of one train's trace under the settings' caps: the tracer never produces more.
+struct DwtBound {
+  std::size_t rays = 0;
+  std::size_t samples = 0;
+};
+DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& settings) noexcept;
+
+/// Traces train `train` of a valid scene (Error if the scene or settings are invalid).
+Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtSettings& settings, DwtStats* stats = nullptr);
+/// Traces every train with scene.dwt (or the given settings). `threads` > 1 traces trains in parallel;
+/// the result is bit-identical for any thread count.
+Expected<WaveField> trace_wave_field(const Scene& scene, unsigned threads = 1);
+Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& settings, unsigned threads = 1);
+
+}  // namespace houle

@@ -1,0 +1,100 @@
+#include "houle/sim/dispersion.hpp"
+
+#include <cmath>
+
+#include "houle/simd/dispatch.hpp"
+#include "sim_table.hpp"
+
+namespace houle {
+namespace {
+
+// Newton on f(x) = x tanh x - y, f' = tanh x + x (1 - tanh^2 x) > 0. From x > 0 the iterate stays
+// positive (f / f' < x), and from Fenton & McKee's start (within 1.7 %) it converges in <= 4 steps
+// (physics.md 1.2); a warm start nearer the root needs fewer. Stops when the step is below 4 ulps of x.
+double newton_kh(double y, double x) noexcept {
+  for (int i = 0; i < 8; ++i) {
+    const double t = std::tanh(x);
+    const double dx = (x * t - y) / (t + x * (1.0 - t * t));
+    x -= dx;
+    if (std::fabs(dx) <= 8.9e-16 * x) break;
+  }
+  return x;
+}
+
+// Fenton & McKee (1990): x = y / tanh(y^(3/4))^(2/3), within 1.63 % and exact in both limits.
+double fenton_mckee(double y) noexcept { return y / std::pow(std::tanh(std::pow(y, 0.75)), 2.0 / 3.0); }
+
+bool positive_finite(double y) noexcept { return y > 0.0 && y < INFINITY; }
+
+// Below `series_limit` the two-term series is exact to rounding (next term 0.156 kh^4) while the
+// direct form rounds 2kh / sinh 2kh to just above 1 in float (n would exceed 1 and stop being monotone).
+template <class T>
+T group_velocity_ratio_impl(T kh) noexcept {
+  constexpr T series_limit = sizeof(T) == sizeof(float) ? T(0.02) : T(1e-4);
+  if (!(kh > T(0))) return T(1);
+  if (kh < series_limit) return T(1) - kh * kh / T(3);
+  if (kh > T(20)) return T(0.5);  // 2kh / sinh 2kh < 2e-16 there
+  return T(0.5) * (T(1) + T(2) * kh / std::sinh(T(2) * kh));
+}
+
+template <class T>
+T shoaling_coefficient_impl(T kh) noexcept {
+  if (!(kh > T(0))) return T(0);
+  return T(1) / std::sqrt(T(2) * group_velocity_ratio_impl(kh) * std::tanh(kh));
+}
+
+LinearWave make_linear_wave(double omega, double depth, double kh) noexcept {
+  LinearWave w;
+  if (!(kh > 0.0)) return w;
+  w.kh = kh;
+  w.k = kh / depth;
+  // C = (g / omega) tanh kh rather than omega / k: no division by a huge k in very shallow water.
+  w.c = gravity / omega * std::tanh(kh);
+  w.n = group_velocity_ratio(kh);
+  w.cg = w.n * w.c;
+  w.wet = true;
+  return w;
+}
+
+}  // namespace
+
+double solve_kh(double k0h) noexcept {
+  if (!positive_finite(k0h)) return 0.0;
+  return newton_kh(k0h, fenton_mckee(k0h));
+}
+
+double solve_kh(double k0h, double guess) noexcept {
+  if (!positive_finite(k0h)) return 0.0;
+  return newton_kh(k0h, positive_finite(guess) ? guess : fenton_mckee(k0h));
+}
+
+double group_velocity_ratio(double kh) noexcept { return group_velocity_ratio_impl(kh); }
+float group_velocity_ratio(float kh) noexcept { return group_velocity_ratio_impl(kh); }
+double shoaling_coefficient(double kh) noexcept { return shoaling_coefficient_impl(kh); }
+float shoaling_coefficient(float kh) noexcept { return shoaling_coefficient_impl(kh); }
+
+double celerity_depth_derivative(double k, double kh) noexcept {
+  if (!(kh > 0.0) || !(k > 0.0)) return 0.0;
+  if (kh > 350.0) return 0.0;  // sinh would overflow; the true value is below 1e-300 k
+  return 2.0 * k / (2.0 * kh + std::sinh(2.0 * kh));
+}
+
+LinearWave linear_wave(double omega, double depth) noexcept {
+  if (!positive_finite(omega) || !positive_finite(depth)) return {};
+  return make_linear_wave(omega, depth, solve_kh(deep_water_wavenumber(omega) * depth));
+}
+
+LinearWave linear_wave(double omega, double depth, double kh_guess) noexcept {
+  if (!positive_finite(omega) || !positive_finite(depth)) return {};
+  return make_linear_wave(omega, depth, solve_kh(deep_water_wavenumber(omega) * depth, kh_guess));
+}
+
+void dispersion_k_batch(double omega, const float* depth, std::size_t n, float* k) noexcept {
+  simd::active_table<detail::SimTable>().dispersion_k_batch(float(deep_water_wavenumber(omega)), depth, n, k);
+}
+
+void dispersion_k_batch(Isa isa, double omega, const float* depth, std::size_t n, float* k) noexcept {
+  simd::table_for<detail::SimTable>(isa).dispersion_k_batch(float(deep_water_wavenumber(omega)), depth, n, k);
+}
+
+}  // namespace houle

@@ -1,0 +1,46 @@
+// Walls as the ray tracer sees them: capsules (segments thickened by a radius) and the pierheads at
+// their free ends. Internal to houle_sim.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "houle/sim/bathymetry.hpp"
+#include "houle/sim/scene.hpp"
+
+namespace houle::detail {
+
+/// Thinner walls are traced as this radius (m): a thin wall must still stop rays that cross it.
+inline constexpr double min_wall_radius = 1e-3;
+
+struct Capsule {
+  double ax, ay, bx, by;  ///< segment, m
+  double radius;          ///< m, >= min_wall_radius
+  std::uint32_t wall;     ///< index into Scene::walls
+};
+
+struct WallHit {
+  bool hit = false;
+  double u = 2.0;          ///< where along the chord (0 = its start, 1 = its end)
+  std::uint32_t wall = 0;
+};
+
+/// Every wall segment of a scene as a capsule.
+std::vector<Capsule> wall_capsules(const std::vector<Wall>& walls);
+
+/// First contact of the chord p0 -> p1 with any capsule. A chord that starts inside a capsule (deeper
+/// than 1e-9 m) hits at u = 0; one that only touches the surface, or starts on it and moves away or
+/// along it, does not hit (so rays can start on a wall's surface and graze its face).
+WallHit first_wall_hit(const std::vector<Capsule>& capsules, double x0, double y0, double x1, double y1) noexcept;
+
+/// A wall end that can diffract: inside the domain (farther than the wall's radius from its edges) and
+/// in water deeper than h_min.
+struct PierheadSite {
+  double x, y;            ///< M, m
+  double ux, uy;          ///< unit vector from M along the wall (into the structure)
+  double radius;          ///< m, the wall's half thickness (>= min_wall_radius)
+  double reflection;      ///< alpha
+  std::uint32_t wall;
+};
+std::vector<PierheadSite> pierhead_sites(const Scene& scene, const Bathymetry& floor, double h_min);
+
+}  // namespace houle::detail

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# End-to-end tests of the houle command: each case runs the real binary and checks the exit code and
+# the message. Usage: test_cli.sh <houle binary> <source dir>
+set -uo pipefail
+houle=$1 src=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+pass=0 fail=0
+
+# expect <name> <exit code> <regex the output must match> <command...>
+expect() {
+  local name=$1 code=$2 pattern=$3; shift 3
+  local out rc
+  out=$("$@" 2>&1); rc=$?
+  if [ "$rc" -eq "$code" ] && grep -qE -- "$pattern" <<<"$out"; then
+    pass=$((pass + 1))
+  else
+    fail=$((fail + 1))
+    printf 'FAIL %s: exit %s (want %s), output:\n%s\n(want /%s/)\n' "$name" "$rc" "$code" "$out" "$pattern"
+  fi
+}
+# scene <name> <toml>: writes a scene file and prints its path
+scene() { printf '%s\n' "$2" >"$work/$1.toml"; echo "$work/$1.toml"; }
+
+expect version 0 '^houle [0-9.]+ \(ISA [a-z0-9.]+; compiled: scalar' "$houle" --version
+expect help 0 'usage: houle <command>' "$houle" --help
+expect unknown-command 2 "unknown command 'frobnicate'" "$houle" frobnicate
+expect unknown-option 2 "unknown option '--frob'" "$houle" info --frob
+for f in "$src"/scenes/*.toml; do
+  expect "shipped $(basename "$f")" 0 ': ok$' "$houle" validate "$f"
+done
+expect builtin-info 0 'trains: 3' "$houle" info
+
+f=$(scene unknown-key '[camera]
+positon = [1, 2, 3]')
+expect unknown-key 2 "unknown-key.toml:2:1: camera.positon: unknown key" "$houle" validate "$f"
+f=$(scene wrong-type '[[trains]]
+period = "six"')
+expect wrong-type 2 'wrong-type.toml:2:10: trains\[0\].period: expected a number, got a string' "$houle" validate "$f"
+f=$(scene negative-period '[[trains]]
+period = -3.0')
+expect negative-period 2 'negative-period.toml:2:10: trains\[0\].period: a finite value > 0 s, got -3' "$houle" validate "$f"
+f=$(scene too-steep '[[trains]]
+period = 4.0
+amplitude = 3.0')
+expect too-steep 2 'too-steep.toml:3:13: trains\[0\].amplitude: at most the deep-water breaking' "$houle" validate "$f"
+f=$(scene camera-under-floor '[floor.base]
+depth = 10.0
+[camera]
+position = [10.0, 10.0, -12.0]
+look_at = [10.0, 50.0, 0.0]')
+expect camera-under-floor 2 'camera-under-floor.toml:4:12: camera.position.z: a height above the sea floor' "$houle" validate "$f"
+f=$(scene jetty-outside '[domain]
+x_max = 100.0
+y_max = 100.0
+[[walls]]
+points = [[200.0, 10.0], [300.0, 10.0]]')
+expect jetty-outside 2 'jetty-outside.toml:5:.*walls\[0\].points\[1\]: a segment that meets the domain' "$houle" validate "$f"
+f=$(scene syntax '[camera
+position = 1')
+expect toml-syntax 2 'syntax.toml:1:' "$houle" validate "$f"
+expect missing-file 2 'nope.toml: cannot read the scene file' "$houle" validate "$work/nope.toml"
+head -c 1100000 /dev/zero | tr '\0' '#' >"$work/huge.toml"
+expect huge-file 2 'over the limit of 1048576' "$houle" validate "$work/huge.toml"
+f=$(scene bad-enum '[floor.base]
+kind = "sloped"')
+expect bad-enum 2 'floor.base.kind: expected one of "flat", "planar_beach", got "sloped"' "$houle" validate "$f"
+
+echo "cli: ${pass} passed, ${fail} failed"
+[ "$fail" -eq 0 ]

@@ -1,0 +1,161 @@
+// Scene validation: the built-in scenes are valid, and each kind of mistake names its field.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "houle/sim/scene.hpp"
+
+namespace {
+
+using houle::Scene;
+
+std::string error_field(const Scene& s) {
+  const auto r = houle::validate(s);
+  return r.ok() ? std::string("<valid>") : r.error().field;
+}
+
+Scene with_train() {
+  Scene s;
+  houle::WaveTrain t;
+  t.period = 8.0;
+  t.amplitude = 1.0;
+  s.trains = {t, t};
+  return s;
+}
+
+TEST(Scene, DefaultsAndBuiltinsAreValid) {
+  EXPECT_EQ(error_field(Scene{}), "<valid>");
+  EXPECT_EQ(error_field(with_train()), "<valid>");
+  const auto coast = houle::validate(houle::builtin_coast());
+  ASSERT_TRUE(coast.ok()) << coast.error().field << ": " << coast.error().message;
+  EXPECT_EQ(coast->trains.size(), 3u);
+  EXPECT_EQ(coast->walls.size(), 1u);
+  EXPECT_EQ(coast->floor.shoals.size(), 2u);
+  EXPECT_GT(coast->capillary.amplitude, 0.0);
+  EXPECT_FALSE(coast->boxes.empty());
+  const auto fig4 = houle::validate(houle::paper_fig4());
+  ASSERT_TRUE(fig4.ok()) << fig4.error().field << ": " << fig4.error().message;
+  EXPECT_EQ(fig4->dwt.initial_rays, 70u);
+  EXPECT_EQ(fig4->dwt.step, 0.4);
+  EXPECT_EQ(fig4->dwt.insertion_distance, 1.0);
+  EXPECT_EQ(fig4->domain.x_max - fig4->domain.x_min, 100.0);
+}
+
+TEST(Scene, TrainErrorsNameTheField) {
+  Scene s = with_train();
+  s.trains[1].period = -3.0;
+  const auto r = houle::validate(s);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().field, "trains[1].period");
+  EXPECT_NE(r.error().message.find("> 0 s"), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("-3"), std::string::npos) << r.error().message;
+
+  s = with_train();
+  s.trains[0].wavelength = 50.0;  // both given
+  EXPECT_EQ(error_field(s), "trains[0].period");
+  s.trains[0].period.reset();
+  s.trains[0].wavelength.reset();  // neither given
+  EXPECT_EQ(error_field(s), "trains[0].period");
+
+  // Stokes limit in deep water: A <= 0.071 L0. T = 8 s: L0 = 99.9 m, limit 7.09 m.
+  s = with_train();
+  s.trains[1].amplitude = 7.0;
+  EXPECT_EQ(error_field(s), "<valid>");
+  s.trains[1].amplitude = 7.2;
+  EXPECT_EQ(error_field(s), "trains[1].amplitude");
+  s.trains[1].amplitude = -0.1;
+  EXPECT_EQ(error_field(s), "trains[1].amplitude");
+
+  s = with_train();
+  s.trains[0].steepness = 1.5;
+  EXPECT_EQ(error_field(s), "trains[0].steepness");
+  s = with_train();
+  s.trains[0].direction = houle::Point2{0.0, 0.0};
+  EXPECT_EQ(error_field(s), "trains[0].direction");
+  s = with_train();
+  s.trains[0].direction_deg = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(error_field(s), "trains[0].direction_deg");
+}
+
+TEST(Scene, FloorWallAndViewErrors) {
+  Scene s;
+  s.floor.base.depth = 0.0;
+  EXPECT_EQ(error_field(s), "floor.base.depth");
+  s = Scene{};
+  s.floor.shoals.push_back(houle::Shoal{{10, 10}, -2.0, 3.0, 0.0, 1.0});
+  EXPECT_EQ(error_field(s), "floor.shoals[0].semi_axis_a");
+  s = Scene{};
+  s.floor.height_map = houle::HeightMap{3, 2, {0, 0}, 1.0, {1, 2, 3, 4, 5}, houle::HeightMapMode::absolute};
+  EXPECT_EQ(error_field(s), "floor.height_map.depth");
+  s.floor.height_map->depth.push_back(std::numeric_limits<float>::infinity());
+  EXPECT_EQ(error_field(s), "floor.height_map.depth[5]");
+
+  // A jetty whose second segment leaves the domain entirely is an error; one ending on the edge is not.
+  s = Scene{};
+  houle::Wall w;
+  w.points = {{50, 0}, {50, 60}};
+  s.walls = {w};
+  EXPECT_EQ(error_field(s), "<valid>");
+  s.walls[0].points = {{-50, -50}, {-10, -80}};
+  EXPECT_EQ(error_field(s), "walls[0].points[1]");
+  s.walls[0].points = {{50, 10}, {50, 10}};
+  EXPECT_EQ(error_field(s), "walls[0].points[1]");
+  s.walls[0].points = {{50, 10}, {50, 20}};
+  s.walls[0].reflection = 1.2;
+  EXPECT_EQ(error_field(s), "walls[0].reflection");
+
+  // Camera below the sea floor (flat 20 m: the floor is at z = -20).
+  s = Scene{};
+  s.camera.position.z = -19.0;
+  EXPECT_EQ(error_field(s), "<valid>");
+  s.camera.position.z = -21.0;
+  EXPECT_EQ(error_field(s), "camera.position.z");
+  s = Scene{};
+  s.camera.vertical_fov_deg = 180.0;
+  EXPECT_EQ(error_field(s), "camera.vertical_fov_deg");
+  s = Scene{};
+  s.camera.look_at = s.camera.position;
+  EXPECT_EQ(error_field(s), "camera.look_at");
+
+  s = Scene{};
+  s.capillary.lacunarity = 1.0;
+  EXPECT_EQ(error_field(s), "capillary.lacunarity");
+  s = Scene{};
+  s.sun.elevation_deg = 95.0;
+  EXPECT_EQ(error_field(s), "sun.elevation_deg");
+  s = Scene{};
+  s.water.dominant_wavelength_nm = 200.0;
+  EXPECT_EQ(error_field(s), "water.dominant_wavelength_nm");
+  s = Scene{};
+  s.dwt.step = 0.0;
+  EXPECT_EQ(error_field(s), "dwt.step");
+  s = Scene{};
+  s.domain.x_max = -1.0;
+  EXPECT_EQ(error_field(s), "domain.x_max");
+  s = Scene{};
+  s.spheres.push_back(houle::Sphere{{1, 2, 3}, 1.0, {2.0f, 0.0f, 0.0f}});
+  EXPECT_EQ(error_field(s), "spheres[0].colour");
+}
+
+TEST(Scene, TrainHelpers) {
+  houle::WaveTrain t;
+  t.period = 10.0;
+  EXPECT_NEAR(houle::train_omega(t), 2.0 * std::numbers::pi / 10.0, 1e-15);
+  // The deep-water wavelength of T = 10 s is g T^2 / (2 pi) = 156.13 m: the same omega.
+  houle::WaveTrain u;
+  u.wavelength = 9.81 * 100.0 / (2.0 * std::numbers::pi);
+  EXPECT_NEAR(houle::train_omega(u), houle::train_omega(t), 1e-14);
+  t.direction_deg = 90.0;
+  EXPECT_NEAR(houle::train_direction(t).x, 0.0, 1e-15);
+  EXPECT_NEAR(houle::train_direction(t).y, 1.0, 1e-15);
+  t.direction = houle::Point2{3.0, -4.0};
+  EXPECT_NEAR(houle::train_direction(t).x, 0.6, 1e-15);
+  EXPECT_NEAR(houle::train_direction(t).y, -0.8, 1e-15);
+  houle::WaveTrain none;
+  EXPECT_EQ(houle::train_omega(none), 0.0);
+}
+
+}  // namespace
