@@ -16,7 +16,7 @@ constexpr int period = capillary_period;
 
 /// Lattice value q in [-127, 127] at (i, j) in [0, 256)^2: a fixed integer hash (Wellons' lowbias32),
 /// so the table is the same for every build and platform.
-constexpr std::int32_t lattice_q(std::uint32_t i, std::uint32_t j) {
+std::int32_t lattice_q(std::uint32_t i, std::uint32_t j) {
   std::uint32_t x = (j * std::uint32_t(period) + i) ^ 0x68e31da4u;
   x ^= x >> 16;
   x *= 0x7feb352du;
@@ -26,23 +26,31 @@ constexpr std::int32_t lattice_q(std::uint32_t i, std::uint32_t j) {
   return std::int32_t(x % 255u) - 127;
 }
 
-/// One hash per lattice point, scattered into the 4 words that hold it (each word holds columns
-/// c-1..c+2 of a row), then the wrap rows copied: cheap enough for every compiler's constexpr budget
-/// (GCC's default is 2^25 operations, also under sanitizers).
-constexpr CapillaryLattice make_lattice() {
-  CapillaryLattice t{};
+std::uint32_t lattice_byte(std::int32_t q) { return std::uint32_t(q) & 0xffu; }
+
+/// Fills the table in place: one hash per lattice point and a sliding window along each row (word
+/// c + 1 is word c shifted by a byte plus one new column). Built at run time, once: ~0.3 ms, where
+/// a constexpr table would strain compilers' evaluation budgets (GCC 2^25 operations, clang 2^20).
+void fill_lattice(CapillaryLattice& t) {
   std::int64_t s1 = 0, s2 = 0;
   for (std::uint32_t j = 0; j < std::uint32_t(period); ++j) {
-    const std::uint32_t row = (j + 1) * std::uint32_t(period);  // padded row j + 1 holds lattice row j
-    for (std::uint32_t i = 0; i < std::uint32_t(period); ++i) {
-      const std::int32_t q = lattice_q(i, j);
-      s1 += q;
-      s2 += std::int64_t(q) * q;
-      const std::uint32_t byte = std::uint32_t(q) & 0xffu;
-      for (std::uint32_t b = 0; b < 4; ++b) {
-        std::int32_t& w = t.words[row + (i + period + 1 - b) % period];
-        w = std::int32_t(std::uint32_t(w) | (byte << (8 * b)));  // modular conversion (C++20)
+    const std::int32_t q0 = lattice_q(0, j), q1 = lattice_q(1, j);
+    s1 += q0 + q1;
+    s2 += std::int64_t(q0) * q0 + std::int64_t(q1) * q1;
+    // Bytes 0..2: columns -1 (= 255), 0, 1; byte 3 takes column c + 2 in the loop.
+    std::uint32_t word = lattice_byte(lattice_q(period - 1, j)) | lattice_byte(q0) << 8 | lattice_byte(q1) << 16;
+    std::int32_t* row = t.words + (j + 1) * period;  // padded row j + 1 holds lattice row j
+    for (std::uint32_t c = 0; c < std::uint32_t(period); ++c) {
+      const std::uint32_t col = c + 2;
+      std::int32_t q = col == std::uint32_t(period) ? q0 : q1;  // columns 256, 257 wrap to 0, 1
+      if (col < std::uint32_t(period)) {
+        q = lattice_q(col, j);
+        s1 += q;
+        s2 += std::int64_t(q) * q;
       }
+      word |= lattice_byte(q) << 24;
+      row[c] = std::int32_t(word);  // modular conversion (C++20)
+      word >>= 8;
     }
   }
   for (std::uint32_t c = 0; c < std::uint32_t(period); ++c) {
@@ -52,8 +60,12 @@ constexpr CapillaryLattice make_lattice() {
   }
   const double n = double(period) * period, mean = double(s1) / n;
   t.value_variance = (double(s2) / n - mean * mean) / (127.0 * 127.0);
-  return t;
 }
+
+struct LatticeHolder {
+  CapillaryLattice table;
+  LatticeHolder() noexcept : table{} { fill_lattice(table); }
+};
 
 // Catmull-Rom constants (rendering.md 5.1, physics.md 6.1): max sum|w| = 1.25, max sum|w'| = 3 (both
 // at t = 1/2), so |N| <= 1.25^2 and |grad N| <= sqrt(2) 3 * 1.25 per lattice unit; the integrals
@@ -82,7 +94,10 @@ float octave_weight(float level, int i) {
 
 }  // namespace
 
-constinit const CapillaryLattice capillary_lattice = make_lattice();
+const CapillaryLattice& capillary_lattice() noexcept {
+  static const LatticeHolder holder;  // function-local: built on first use, no global constructor
+  return holder.table;
+}
 
 }  // namespace detail
 
@@ -193,7 +208,7 @@ float capillary_slope_bound(const CapillaryParams& p, float level) noexcept {
 
 float octave_slope_variance(const CapillaryParams& p) noexcept {
   const double g = double(p.amplitude) / p.base_wavelength;
-  return float(g * g * detail::capillary_lattice.value_variance * detail::slope_integrals);
+  return float(g * g * detail::capillary_lattice().value_variance * detail::slope_integrals);
 }
 
 float dropped_slope_variance(const CapillaryParams& p, float level) noexcept {
@@ -207,7 +222,7 @@ float dropped_slope_variance(const CapillaryParams& p, float level) noexcept {
 
 float capillary_lattice_value(std::int32_t i, std::int32_t j) noexcept {
   // Byte 1 of word (row j + 1, column i) is q(i, j): read back from the packed table the kernel uses.
-  const std::int32_t word = detail::capillary_lattice.words[((j & 255) + 1) * detail::capillary_period + (i & 255)];
+  const std::int32_t word = detail::capillary_lattice().words[((j & 255) + 1) * detail::capillary_period + (i & 255)];
   return float(simd::signed_byte<1>(word)) / 127.0f;
 }
 

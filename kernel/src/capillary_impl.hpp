@@ -2,9 +2,10 @@
 //
 // Lattice: 256 x 256 values q in [-127, 127] (value q / 127), packed so that one 32-bit word holds
 // the 4 consecutive values of a row that a Catmull-Rom sample needs: a sample costs 4 lookups per
-// octave instead of 16 (performance.md: lookups, not arithmetic, bound noise). Rows are stored
-// 259 times (row p holds lattice row p - 1 mod 256) so the 4 rows of a sample are base + 0..3 rows
-// without wrapping each one. Only +, -, * and exact conversions: every ISA gives the scalar bits.
+// octave instead of 16 (gathers cost ~1.4 cycles per element, performance.md; with packing they are
+// ~20% of this kernel's time on Zen 3, the interpolation with its gradient is the rest). The table
+// has 259 rows (row p holds lattice row p - 1 mod 256), so the 4 rows of a sample are base + 0..3
+// rows without wrapping each one. Only +, -, * and exact conversions: every ISA gives the scalar bits.
 #pragma once
 #include <algorithm>
 #include <cstddef>
@@ -24,8 +25,8 @@ struct CapillaryLattice {
   std::int32_t words[capillary_lattice_words];
   double value_variance;  ///< of q / 127 over one period: the slope statistics scale with it
 };
-/// Built at compile time in capillary.cpp: no ISA object carries a copy or a constructor.
-extern const CapillaryLattice capillary_lattice;
+/// Built on first use (thread-safe, in capillary.cpp: no ISA object holds a copy or a constructor).
+const CapillaryLattice& capillary_lattice() noexcept;
 
 template <class A>
 struct CapillaryPoint {
@@ -94,9 +95,10 @@ inline void capillary_row(I word, const RowWeights<V, Grad>& wx, V& r, V& dr) {
 /// Adds lattice row `Row` of the sample's 4 x 4 neighbourhood, weighted in y, to n (and, with Grad,
 /// to dn/du, dn/dv).
 template <int Row, bool Grad, class V, class I>
-inline void capillary_add_row(I base, const RowWeights<V, Grad>& wu, const CatmullRom2<V>& wv, V& n, V& nu, V& nv) {
+inline void capillary_add_row(const std::int32_t* lattice, I base, const RowWeights<V, Grad>& wu,
+                              const CatmullRom2<V>& wv, V& n, V& nu, V& nv) {
   V r, dr;
-  capillary_row<Grad>(simd::gather(capillary_lattice.words + Row * capillary_period, base), wu, r, dr);
+  capillary_row<Grad>(simd::gather(lattice + Row * capillary_period, base), wu, r, dr);
   const V w = wv.template w<Row>();
   if constexpr (Row == 0) {
     n = w * r;
@@ -117,8 +119,8 @@ inline void capillary_add_row(I base, const RowWeights<V, Grad>& wu, const Catmu
 
 /// Height and (with Grad; otherwise gradient 0) gradient at a batch of points.
 template <class A, bool Grad>
-inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y,
-                                         simd::vfloat<A> level) {
+inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, const std::int32_t* lattice, simd::vfloat<A> x,
+                                         simd::vfloat<A> y, simd::vfloat<A> level) {
   using V = simd::vfloat<A>;
   using I = simd::vint<A>;
   // Comparisons, not min/max: NaN goes to a defined value the same way on every ISA.
@@ -150,10 +152,10 @@ inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, simd::vfloat<A
     const I base = ((simd::to_int_exact(cv) & 255) << 8) | (simd::to_int_exact(cu) & 255);
     // Row by row, each y-weight made when needed: fewer live registers than all 16 weights at once.
     V n, nu, nv;
-    capillary_add_row<0>(base, wu, wv, n, nu, nv);
-    capillary_add_row<1>(base, wu, wv, n, nu, nv);
-    capillary_add_row<2>(base, wu, wv, n, nu, nv);
-    capillary_add_row<3>(base, wu, wv, n, nu, nv);
+    capillary_add_row<0>(lattice, base, wu, wv, n, nu, nv);
+    capillary_add_row<1>(lattice, base, wu, wv, n, nu, nv);
+    capillary_add_row<2>(lattice, base, wu, wv, n, nu, nv);
+    capillary_add_row<3>(lattice, base, wu, wv, n, nu, nv);
 
     const V aw = weight * f.value_scale[i];
     h = h + aw * n;
@@ -165,14 +167,22 @@ inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, simd::vfloat<A
   return {h, gx, gy};
 }
 
+/// The same, looking the lattice up itself (for callers outside this file, e.g. the marcher).
+template <class A, bool Grad>
+inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y,
+                                         simd::vfloat<A> level) {
+  return capillary_point<A, Grad>(f, capillary_lattice().words, x, y, level);
+}
+
 template <class A, bool Grad>
 void capillary_eval_points(const CapillaryFrame& f, const float* x, const float* y, const float* level, std::size_t n,
                            float* h, float* gx, float* gy) {
   constexpr std::size_t W = simd::width<A>;
+  const std::int32_t* lattice = capillary_lattice().words;
   std::size_t i = 0;
   for (; i + W <= n; i += W) {
     const CapillaryPoint<A> p =
-        capillary_point<A, Grad>(f, simd::load<A>(x + i), simd::load<A>(y + i), simd::load<A>(level + i));
+        capillary_point<A, Grad>(f, lattice, simd::load<A>(x + i), simd::load<A>(y + i), simd::load<A>(level + i));
     simd::store<A>(h + i, p.height);
     if constexpr (Grad) {
       simd::store<A>(gx + i, p.grad_x);
@@ -186,7 +196,8 @@ void capillary_eval_points(const CapillaryFrame& f, const float* x, const float*
     std::copy(x + i, x + n, tx);
     std::copy(y + i, y + n, ty);
     std::copy(level + i, level + n, tl);
-    const CapillaryPoint<A> p = capillary_point<A, Grad>(f, simd::load<A>(tx), simd::load<A>(ty), simd::load<A>(tl));
+    const CapillaryPoint<A> p =
+        capillary_point<A, Grad>(f, lattice, simd::load<A>(tx), simd::load<A>(ty), simd::load<A>(tl));
     simd::store<A>(th, p.height);
     std::copy(th, th + (n - i), h + i);
     if constexpr (Grad) {

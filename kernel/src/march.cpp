@@ -70,19 +70,20 @@ detail::MarchContext make_context(const SurfaceFrame& frame, const MarchParams& 
   c.centre_y = v.centre_y;
   c.far_height = v.far_height;
   for (std::uint32_t l = 0; l < v.levels; ++l) {
-    const SurfaceLevel& s = v.level[l];
-    detail::MarchLevel& m = c.level[l];
-    m.origin_x = s.origin_x;
-    m.origin_y = s.origin_y;
-    m.inv_cell = float(1.0 / double(s.cell));
-    m.tile_size = s.cell * float(v.tile_cells);
-    m.reach = s.reach;
-    m.band_start = float((1.0 - double(v.blend_fraction)) * s.reach);
-    m.inv_band = float(1.0 / (double(v.blend_fraction) * s.reach));
-    m.node_base = float(std::size_t(l) * v.level_floats);
-    m.tile_base = float(std::size_t(l) * v.tiles_per_side * v.tiles_per_side);
+    c.level_reach[l] = v.level[l].reach;
+    c.level_origin_x[l] = v.level[l].origin_x;
+    c.level_origin_y[l] = v.level[l].origin_y;
   }
-  c.level[v.levels] = c.level[v.levels - 1];
+  c.level_origin_x[v.levels] = c.level_origin_x[v.levels - 1];
+  c.level_origin_y[v.levels] = c.level_origin_y[v.levels - 1];
+  const SurfaceLevel& l0 = v.level[0];
+  c.inv_cell0 = float(1.0 / double(l0.cell));
+  c.tile_size0 = l0.cell * float(v.tile_cells);
+  c.reach0 = l0.reach;
+  c.band_start0 = float((1.0 - double(v.blend_fraction)) * l0.reach);
+  c.inv_band0 = float(1.0 / (double(v.blend_fraction) * l0.reach));
+  c.level_floats = float(v.level_floats);
+  c.level_tiles = float(std::size_t(v.tiles_per_side) * v.tiles_per_side);
   c.global = v.global;
 
   set_ray_params(c, p, c.global.h_min, c.global.h_max);
@@ -133,24 +134,33 @@ void march_camera_row(Isa isa, const SurfaceFrame& frame, const Camera& camera, 
   march_row(table(isa), frame, camera, params, row, x0, n, sub_x, sub_y, hits);
 }
 
-float march_f(const SurfaceFrame& frame, const MarchParams& params, float ox, float oy, float oz, float dx, float dy,
-              float dz, float t) noexcept {
+MarchProbe::MarchProbe(const SurfaceFrame& frame, const MarchParams& params)
+    : c_(std::make_unique<detail::MarchContext>(make_context(frame, params))) {}
+MarchProbe::~MarchProbe() = default;
+
+float MarchProbe::f(float ox, float oy, float oz, float dx, float dy, float dz, float t) const noexcept {
   using S = simd::scalar;
-  const detail::MarchContext c = make_context(frame, params);
   bool finite = false;
-  const detail::MarchRay<S> r = detail::make_march_ray<S>(c, ox, oy, oz, dx, dy, dz, finite);
-  return detail::full_g<S>(c, r, t, 1.0f, true);
+  const detail::MarchRay<S> r = detail::make_march_ray<S>(*c_, ox, oy, oz, dx, dy, dz, finite);
+  return detail::full_g<S>(*c_, r, t, 1.0f, true);
 }
 
-float march_noise_level(const MarchParams& params, float dz, float t) noexcept {
-  detail::MarchContext c;
-  set_ray_params(c, params, 0.0f, 0.0f);
-  if (c.noise == nullptr) return 0.0f;
+float MarchProbe::noise_level(float dz, float t) const noexcept {
+  if (c_->noise == nullptr) return 0.0f;
   using S = simd::scalar;
   bool finite = false;
-  const detail::MarchRay<S> r = detail::make_march_ray<S>(c, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, dz, finite);
-  return detail::noise_level<S>(c, r.level_offset, c.cone_width + t * c.pixel_angle);
+  const detail::MarchRay<S> r = detail::make_march_ray<S>(*c_, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, dz, finite);
+  return detail::noise_level<S>(*c_, r.level_offset, c_->cone_width + t * c_->pixel_angle);
 }
+
+float MarchProbe::grid_height(float x, float y) const noexcept {
+  using S = simd::scalar;
+  const detail::Located<S> s = detail::locate<S>(*c_, x, y);
+  return detail::blended<S>(*c_, c_->height, s, true, x, y, c_->far_height);
+}
+
+float MarchProbe::slab_min() const noexcept { return c_->z_lo; }
+float MarchProbe::slab_max() const noexcept { return c_->z_hi; }
 
 float SurfaceFrame::height_at(float x, float y) const noexcept {
   using S = simd::scalar;

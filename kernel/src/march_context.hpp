@@ -10,18 +10,6 @@
 
 namespace houle::detail {
 
-/// One level as the per-sample level choice needs it (all floats: selected lane-wise).
-struct MarchLevel {
-  float origin_x = 0.0f, origin_y = 0.0f;  ///< m, node (0, 0)
-  float inv_cell = 0.0f;                   ///< 1/m
-  float tile_size = 0.0f;                  ///< m
-  float reach = 0.0f;                      ///< m, Chebyshev radius about the centre
-  float band_start = 0.0f;                 ///< m, where the blend into the next level starts
-  float inv_band = 0.0f;                   ///< 1 / band width
-  float node_base = 0.0f;                  ///< offset of the level's nodes in the field arrays (< 2^24)
-  float tile_base = 0.0f;                  ///< offset of the level's tiles in the tile arrays
-};
-
 struct MarchContext {
   // Surface grid (SurfaceFrameView).
   const float* height = nullptr;
@@ -38,8 +26,20 @@ struct MarchContext {
   float tiles_per_side = 0.0f;
   float inv_tile_cells = 0.0f;  ///< exact: tile_cells is a power of two
   float centre_x = 0.0f, centre_y = 0.0f, far_height = 0.0f;
-  /// levels + 1 entries: the extra one repeats the last so that "the next level" always exists.
-  MarchLevel level[SurfaceFrame::max_levels + 1] = {};
+  // Levels. Level l's cell, tile, reach and blend band are level 0's times 2^l (exact in float), so a
+  // lane computes them from its level index; only the origins are looked up.
+  float level_reach[SurfaceFrame::max_levels] = {};  ///< m, Chebyshev radius about the centre
+  /// m, node (0, 0) of each level; levels + 1 entries, the extra one repeating the last (the partner
+  /// level read, unused, on the last level).
+  float level_origin_x[SurfaceFrame::max_levels + 1] = {};
+  float level_origin_y[SurfaceFrame::max_levels + 1] = {};
+  float inv_cell0 = 0.0f;     ///< 1/m
+  float tile_size0 = 0.0f;    ///< m
+  float reach0 = 0.0f;        ///< m
+  float band_start0 = 0.0f;   ///< m, where level 0 starts fading into level 1
+  float inv_band0 = 0.0f;     ///< 1 / band width of level 0
+  float level_floats = 0.0f;  ///< floats between levels in the node arrays (exact, < 2^24)
+  float level_tiles = 0.0f;   ///< tiles per level
   TileBounds global{};          ///< grid only
   float z_lo = 0.0f, z_hi = 0.0f;  ///< m, the slab the rays are clipped to (grid slab widened by the noise bound)
 

@@ -17,6 +17,9 @@
 #include "houle/simd/simd.hpp"
 #include "march_context.hpp"
 
+// The per-sample helpers are forced inline: out of line, their lane structs go through memory.
+#define HOULE_MARCH_INLINE inline __attribute__((always_inline))
+
 namespace houle::detail {
 
 // ---- Small lane helpers (templates on A: nothing here is emitted outside an ISA's own symbols) ----
@@ -37,7 +40,7 @@ using MarchIndex = typename MarchIndexType<A>::type;
 
 /// Integral float in [0, 2^24) to an int32 lane: exact.
 template <class A>
-inline MarchIndex<A> march_index(simd::vfloat<A> x) {
+HOULE_MARCH_INLINE MarchIndex<A> march_index(simd::vfloat<A> x) {
 #if HOULE_SIMD_BATCHES
 #if defined(__AVX512F__)
   // xsimd's conversion goes through _mm512_cvttps_epi32, whose _mm512_undefined_epi32 trips gcc 12's
@@ -55,12 +58,29 @@ inline MarchIndex<A> march_index(simd::vfloat<A> x) {
   }
 }
 
-/// p[i] per lane (AVX2 / AVX-512 use their float gather instructions).
+/// p[i] per lane: AVX2 and AVX-512 through their gather instructions (xsimd 8.1's batch::gather
+/// reaches only its generic lane-by-lane fallback, out of line), the others lane by lane.
 template <class A>
-inline simd::vfloat<A> march_gather(const float* p, MarchIndex<A> i) {
+HOULE_MARCH_INLINE simd::vfloat<A> march_gather(const float* p, MarchIndex<A> i) {
 #if HOULE_SIMD_BATCHES
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+    // The masked form: the plain one's _mm512_undefined_ps trips gcc 12's -Wuninitialized.
+    return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), static_cast<__mmask16>(0xFFFF), i, p, 4);
+  } else
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, A>) {
+    return _mm256_i32gather_ps(p, i, 4);
+  } else
+#endif
   if constexpr (!std::is_same_v<A, simd::scalar>) {
-    return simd::vfloat<A>::gather(p, i);
+    constexpr std::size_t W = simd::width<A>;
+    alignas(64) std::int32_t idx[W];
+    alignas(64) float v[W];
+    i.store_aligned(idx);
+    for (std::size_t l = 0; l < W; ++l) v[l] = p[idx[l]];
+    return simd::vfloat<A>::load_aligned(v);
   } else
 #endif
   {
@@ -68,18 +88,36 @@ inline simd::vfloat<A> march_gather(const float* p, MarchIndex<A> i) {
   }
 }
 
+/// 2^l for integral l in [-126, 127], built from the exponent bits: exact.
 template <class A>
-inline simd::vfloat<A> vmin(simd::vfloat<A> a, simd::vfloat<A> b) {
+HOULE_MARCH_INLINE simd::vfloat<A> march_pow2(simd::vfloat<A> l) {
+  const MarchIndex<A> i = march_index<A>(l);
+#if HOULE_SIMD_BATCHES
+  if constexpr (!std::is_same_v<A, simd::scalar>) {
+    // A multiply, not a shift: gcc 12 warns inside the AVX-512 shift intrinsic (_mm512_undefined_epi32).
+    return xsimd::bitwise_cast<simd::vfloat<A>>((i + MarchIndex<A>(127)) * MarchIndex<A>(1 << 23));
+  } else
+#endif
+  {
+    const std::uint32_t bits = static_cast<std::uint32_t>(i + 127) << 23;
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+}
+
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> vmin(simd::vfloat<A> a, simd::vfloat<A> b) {
   return simd::select(b < a, b, a);
 }
 template <class A>
-inline simd::vfloat<A> vmax(simd::vfloat<A> a, simd::vfloat<A> b) {
+HOULE_MARCH_INLINE simd::vfloat<A> vmax(simd::vfloat<A> a, simd::vfloat<A> b) {
   return simd::select(a < b, b, a);
 }
 
 /// floor of x in [0, 2^22): the rounding-by-addition of simd.hpp, then a correction.
 template <class A>
-inline simd::vfloat<A> march_floor(simd::vfloat<A> x) {
+HOULE_MARCH_INLINE simd::vfloat<A> march_floor(simd::vfloat<A> x) {
   using V = simd::vfloat<A>;
   const V r = simd::round_nearest(x);
   return r - simd::select(r > x, V(1.0f), V(0.0f));
@@ -88,7 +126,7 @@ inline simd::vfloat<A> march_floor(simd::vfloat<A> x) {
 /// log2(x) for x in [1e-30, 1e30] (clamped), absolute error < 2e-6: exponent from the bits, then
 /// 2/ln2 atanh(s), s = (m - 1)/(m + 1), m in [1, 2), as an odd series in s (|s| <= 1/3).
 template <class A>
-inline simd::vfloat<A> march_log2(simd::vfloat<A> x) {
+HOULE_MARCH_INLINE simd::vfloat<A> march_log2(simd::vfloat<A> x) {
   using V = simd::vfloat<A>;
   x = simd::select(x > 1e-30f, x, V(1e-30f));  // NaN too
   x = simd::select(x < 1e30f, x, V(1e30f));
@@ -128,7 +166,7 @@ struct GridTap {
 };
 
 template <class A>
-inline GridTap<A> grid_tap(const MarchContext& c, simd::vfloat<A> px, simd::vfloat<A> py, simd::vfloat<A> ox,
+HOULE_MARCH_INLINE GridTap<A> grid_tap(const MarchContext& c, simd::vfloat<A> px, simd::vfloat<A> py, simd::vfloat<A> ox,
                            simd::vfloat<A> oy, simd::vfloat<A> inv_cell, simd::vfloat<A> node_base) {
   using V = simd::vfloat<A>;
   const V n(c.cells), last(c.cells - 1.0f);
@@ -151,7 +189,7 @@ inline GridTap<A> grid_tap(const MarchContext& c, simd::vfloat<A> px, simd::vflo
 }
 
 template <class A>
-inline simd::vfloat<A> bilinear(const float* field, std::size_t stride, const GridTap<A>& t) {
+HOULE_MARCH_INLINE simd::vfloat<A> bilinear(const float* field, std::size_t stride, const GridTap<A>& t) {
   using V = simd::vfloat<A>;
   const V h00 = march_gather<A>(field, t.node), h10 = march_gather<A>(field + 1, t.node);
   const V h01 = march_gather<A>(field + stride, t.node), h11 = march_gather<A>(field + stride + 1, t.node);
@@ -160,79 +198,67 @@ inline simd::vfloat<A> bilinear(const float* field, std::size_t stride, const Gr
 }
 
 /// The level choice at a point: level l for reach_{l-1} < r <= reach_l, r the Chebyshev distance to
-/// the centre; beyond the last reach, the far plane. Selected lane-wise by a chain of compares.
+/// the centre; beyond the last reach, the far plane.
 template <class A>
 struct Located {
   using V = simd::vfloat<A>;
   using M = simd::vmask<A>;
-  V r;            ///< Chebyshev distance to the centre
-  V w;            ///< blend weight toward the next level, 0 outside the band
-  M far;          ///< beyond the last level
+  V level;        ///< index of the level read (the last one for far lanes)
+  V w;            ///< blend weight toward the next level, 0 outside the band and beyond the last level
+  M far;          ///< beyond the last level: the far plane
   M next_far;     ///< the blend partner is the far plane (on the last level)
-  V ox, oy, inv_cell, tile_size, reach, node_base, tile_base;  ///< the level's parameters
-  V nox, noy, ninv_cell, nnode_base;                           ///< the next level's
+  V ox, oy, scale, inv_scale;  ///< the level's origin, 2^level, 2^-level
+  V nox, noy;                  ///< the partner level's origin (the last level's again on the last level)
   GridTap<A> tap;
 };
 
 template <class A>
-inline Located<A> locate(const MarchContext& c, simd::vfloat<A> px, simd::vfloat<A> py) {
+HOULE_MARCH_INLINE Located<A> locate(const MarchContext& c, simd::vfloat<A> px, simd::vfloat<A> py) {
   using V = simd::vfloat<A>;
   Located<A> s;
-  s.r = vmax<A>(simd::abs(px - c.centre_x), simd::abs(py - c.centre_y));
-  const MarchLevel* lv = c.level;
-  s.ox = V(lv[0].origin_x);
-  s.oy = V(lv[0].origin_y);
-  s.inv_cell = V(lv[0].inv_cell);
-  s.tile_size = V(lv[0].tile_size);
-  s.reach = V(lv[0].reach);
-  V band_start(lv[0].band_start), inv_band(lv[0].inv_band);
-  s.node_base = V(lv[0].node_base);
-  s.tile_base = V(lv[0].tile_base);
-  s.nox = V(lv[1].origin_x);
-  s.noy = V(lv[1].origin_y);
-  s.ninv_cell = V(lv[1].inv_cell);
-  s.nnode_base = V(lv[1].node_base);
-  s.next_far = simd::vmask<A>(c.levels == 1);
+  const V r = vmax<A>(simd::abs(px - c.centre_x), simd::abs(py - c.centre_y));
+  // The level is the number of reaches below r (they grow with the level); its origin and the
+  // partner's follow in the same chain of selects (cheaper than gathers from the little tables).
+  V level(0.0f);
+  s.ox = V(c.level_origin_x[0]);
+  s.oy = V(c.level_origin_y[0]);
+  s.nox = V(c.level_origin_x[1]);
+  s.noy = V(c.level_origin_y[1]);
   for (std::uint32_t k = 0; k + 1 < c.levels; ++k) {
-    // reach grows with k: once a lane is inside reach_k it stays on level k.
-    const auto out = s.r > lv[k].reach;
-    const MarchLevel& a = lv[k + 1];
-    const MarchLevel& b = lv[k + 2];
-    s.ox = simd::select(out, V(a.origin_x), s.ox);
-    s.oy = simd::select(out, V(a.origin_y), s.oy);
-    s.inv_cell = simd::select(out, V(a.inv_cell), s.inv_cell);
-    s.tile_size = simd::select(out, V(a.tile_size), s.tile_size);
-    s.reach = simd::select(out, V(a.reach), s.reach);
-    band_start = simd::select(out, V(a.band_start), band_start);
-    inv_band = simd::select(out, V(a.inv_band), inv_band);
-    s.node_base = simd::select(out, V(a.node_base), s.node_base);
-    s.tile_base = simd::select(out, V(a.tile_base), s.tile_base);
-    s.nox = simd::select(out, V(b.origin_x), s.nox);
-    s.noy = simd::select(out, V(b.origin_y), s.noy);
-    s.ninv_cell = simd::select(out, V(b.inv_cell), s.ninv_cell);
-    s.nnode_base = simd::select(out, V(b.node_base), s.nnode_base);
-    if (k + 2 == c.levels) s.next_far = out;
+    const auto beyond = r > c.level_reach[k];
+    level = level + simd::select(beyond, V(1.0f), V(0.0f));
+    s.ox = simd::select(beyond, V(c.level_origin_x[k + 1]), s.ox);
+    s.oy = simd::select(beyond, V(c.level_origin_y[k + 1]), s.oy);
+    s.nox = simd::select(beyond, V(c.level_origin_x[k + 2]), s.nox);
+    s.noy = simd::select(beyond, V(c.level_origin_y[k + 2]), s.noy);
   }
-  s.far = s.r > lv[c.levels - 1].reach;
-  V x = (s.r - band_start) * inv_band;
+  const float last = static_cast<float>(c.levels - 1);
+  s.far = r > c.level_reach[c.levels - 1];
+  s.level = level;
+  s.next_far = s.level >= last;
+  s.scale = march_pow2<A>(s.level);
+  s.inv_scale = march_pow2<A>(V(0.0f) - s.level);
+  V x = (r - c.band_start0 * s.scale) * (c.inv_band0 * s.inv_scale);
   x = simd::select(x > 0.0f, x, V(0.0f));
   x = simd::select(x < 1.0f, x, V(1.0f));
-  s.w = x * x * (3.0f - 2.0f * x);
-  s.w = simd::select(s.far, V(0.0f), s.w);
-  s.tap = grid_tap<A>(c, px, py, s.ox, s.oy, s.inv_cell, s.node_base);
+  s.w = simd::select(s.far, V(0.0f), x * x * (3.0f - 2.0f * x));
+  s.tap = grid_tap<A>(c, px, py, s.ox, s.oy, c.inv_cell0 * s.inv_scale, s.level * c.level_floats);
   return s;
 }
 
 /// A field (height, grad_x or grad_y) of the LOD-blended grid at a located point; `far_value` beyond.
 template <class A>
-inline simd::vfloat<A> blended(const MarchContext& c, const float* field, const Located<A>& s,
+HOULE_MARCH_INLINE simd::vfloat<A> blended(const MarchContext& c, const float* field, const Located<A>& s,
                                simd::vmask<A> active, simd::vfloat<A> px, simd::vfloat<A> py, float far_value) {
   using V = simd::vfloat<A>;
   const V h = bilinear<A>(field, c.stride, s.tap);
   V out = h;
   const auto band = s.w > 0.0f;
   if (simd::any(band & active)) {
-    const GridTap<A> nt = grid_tap<A>(c, px, py, s.nox, s.noy, s.ninv_cell, s.nnode_base);
+    // On the last level the partner is the far plane: read the last level again (in bounds), unused.
+    const V next = simd::select(s.next_far, s.level, s.level + 1.0f);
+    const GridTap<A> nt =
+        grid_tap<A>(c, px, py, s.nox, s.noy, c.inv_cell0 * march_pow2<A>(V(0.0f) - next), next * c.level_floats);
     const V partner = simd::select(s.next_far, V(far_value), bilinear<A>(field, c.stride, nt));
     out = simd::select(band, h + s.w * (partner - h), h);
   }
@@ -246,29 +272,30 @@ struct StepBounds {
 };
 
 template <class A>
-inline StepBounds<A> step_bounds(const MarchContext& c, const Located<A>& s, simd::vfloat<A> px, simd::vfloat<A> py,
+HOULE_MARCH_INLINE StepBounds<A> step_bounds(const MarchContext& c, const Located<A>& s, simd::vfloat<A> px, simd::vfloat<A> py,
                                  simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> inv_dx,
                                  simd::vfloat<A> inv_dy) {
   using V = simd::vfloat<A>;
   const V big(1e30f);
   const V ti = march_floor<A>(s.tap.iu * c.inv_tile_cells), tj = march_floor<A>(s.tap.iv * c.inv_tile_cells);
-  const MarchIndex<A> k = march_index<A>(s.tile_base + tj * c.tiles_per_side + ti);
+  const MarchIndex<A> k = march_index<A>(s.level * c.level_tiles + tj * c.tiles_per_side + ti);
   StepBounds<A> b;
   b.h_min = march_gather<A>(c.tile_min, k);
   b.h_max = march_gather<A>(c.tile_max, k);
   b.slope_x = march_gather<A>(c.tile_slope_x, k);
   b.slope_y = march_gather<A>(c.tile_slope_y, k);
   // The tile, clipped to the level's reach (beyond it a coarser level's bounds apply).
-  const V x0 = s.ox + ti * s.tile_size, y0 = s.oy + tj * s.tile_size;
-  const V x_lo = vmax<A>(x0, c.centre_x - s.reach), x_hi = vmin<A>(x0 + s.tile_size, c.centre_x + s.reach);
-  const V y_lo = vmax<A>(y0, c.centre_y - s.reach), y_hi = vmin<A>(y0 + s.tile_size, c.centre_y + s.reach);
+  const V tile = c.tile_size0 * s.scale, reach = c.reach0 * s.scale;
+  const V x0 = s.ox + ti * tile, y0 = s.oy + tj * tile;
+  const V x_lo = vmax<A>(x0, c.centre_x - reach), x_hi = vmin<A>(x0 + tile, c.centre_x + reach);
+  const V y_lo = vmax<A>(y0, c.centre_y - reach), y_hi = vmin<A>(y0 + tile, c.centre_y + reach);
   const V sx = simd::select(dx > 0.0f, (x_hi - px) * inv_dx, simd::select(dx < 0.0f, (x_lo - px) * inv_dx, big));
   const V sy = simd::select(dy > 0.0f, (y_hi - py) * inv_dy, simd::select(dy < 0.0f, (y_lo - py) * inv_dy, big));
   b.s_box = vmin<A>(sx, sy);
   if (simd::any(s.far)) {
     // Beyond the last level: the flat far plane if the ray moves away from the grids for good (it is
     // outside the last reach on an axis along which it does not come back), else the global bounds.
-    const V R(c.level[c.levels - 1].reach);
+    const V R(c.level_reach[c.levels - 1]);
     const V rx = px - c.centre_x, ry = py - c.centre_y;
     const auto away = ((rx > R) & (dx >= 0.0f)) | ((rx < -R) & (dx <= 0.0f)) | ((ry > R) & (dy >= 0.0f)) |
                       ((ry < -R) & (dy <= 0.0f));
@@ -287,7 +314,7 @@ inline StepBounds<A> step_bounds(const MarchContext& c, const Located<A>& s, sim
 /// level = clamp(level_offset + (log2 sin_grazing - log2 footprint_width) / log2 k, 0, n_max); `ray_offset`
 /// holds the per-ray part level_offset + log2(sin) / log2 k.
 template <class A>
-inline simd::vfloat<A> noise_level(const MarchContext& c, simd::vfloat<A> ray_offset, simd::vfloat<A> cone) {
+HOULE_MARCH_INLINE simd::vfloat<A> noise_level(const MarchContext& c, simd::vfloat<A> ray_offset, simd::vfloat<A> cone) {
   using V = simd::vfloat<A>;
   V l = ray_offset - march_log2<A>(cone) * c.inv_log2_lacunarity;
   l = simd::select(l > 0.0f, l, V(0.0f));
@@ -295,7 +322,7 @@ inline simd::vfloat<A> noise_level(const MarchContext& c, simd::vfloat<A> ray_of
 }
 
 template <class A>
-inline void noise_bounds(const MarchContext& c, simd::vfloat<A> level, simd::vfloat<A>& height, simd::vfloat<A>& slope) {
+HOULE_MARCH_INLINE void noise_bounds(const MarchContext& c, simd::vfloat<A> level, simd::vfloat<A>& height, simd::vfloat<A>& slope) {
   using V = simd::vfloat<A>;
   height = V(0.0f);
   slope = V(0.0f);
@@ -310,11 +337,11 @@ inline void noise_bounds(const MarchContext& c, simd::vfloat<A> level, simd::vfl
 /// The two uses of capillary_impl.hpp (the only coupling to it): height alone while marching, height
 /// and gradient at the hit.
 template <class A>
-inline simd::vfloat<A> noise_height(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> level) {
+HOULE_MARCH_INLINE simd::vfloat<A> noise_height(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> level) {
   return capillary_point<A, false>(f, x, y, level).height;
 }
 template <class A>
-inline CapillaryPoint<A> noise_point(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> level) {
+HOULE_MARCH_INLINE CapillaryPoint<A> noise_point(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> level) {
   return capillary_point<A, true>(f, x, y, level);
 }
 
@@ -356,7 +383,7 @@ inline MarchRay<A> make_march_ray(const MarchContext& c, simd::vfloat<A> ox, sim
 
 /// The full (noise included) f at distance t, times sigma.
 template <class A>
-inline simd::vfloat<A> full_g(const MarchContext& c, const MarchRay<A>& r, simd::vfloat<A> t, simd::vfloat<A> sigma,
+HOULE_MARCH_INLINE simd::vfloat<A> full_g(const MarchContext& c, const MarchRay<A>& r, simd::vfloat<A> t, simd::vfloat<A> sigma,
                               simd::vmask<A> active) {
   using V = simd::vfloat<A>;
   const V px = r.ox + t * r.dx, py = r.oy + t * r.dy, pz = r.oz + t * r.dz;
@@ -554,3 +581,5 @@ void march_rays(const MarchContext& c, const MarchRays& rays, std::size_t n, con
 }
 
 }  // namespace houle::detail
+
+#undef HOULE_MARCH_INLINE

@@ -178,8 +178,6 @@ LinearRgb SkyLut::lookup(std::array<float, 3> d) const noexcept {
   const float* t10 = t00 + 3;
   const float* t01 = t00 + (width + 1) * 3;
   const float* t11 = t01 + 3;
-  // Channel by channel, not through a loop over a local array: that array's 4-byte stores would be
-  // reloaded as one 8-byte register and defeat store forwarding (measured 3x slower).
   const auto bilerp = [&](int c) {
     const float lo = t00[c] + a * (t10[c] - t00[c]);
     const float hi = t01[c] + a * (t11[c] - t01[c]);

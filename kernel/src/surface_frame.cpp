@@ -5,6 +5,7 @@
 #include <limits>
 #include <new>
 #include <string>
+#include <utility>
 
 namespace houle {
 namespace {
@@ -16,7 +17,7 @@ std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m;
 bool power_of_two(std::uint32_t n) { return n != 0 && (n & (n - 1)) == 0; }
 
 struct Layout {
-  std::size_t stride, level_floats, tile_floats, total_floats;
+  std::size_t stride, level_floats, tile_floats, flag_floats, total_floats;
   std::uint32_t tiles;
 };
 
@@ -26,8 +27,9 @@ Layout layout(const SurfaceFrameConfig& c) {
   l.level_floats = round_up(l.stride * (std::size_t(c.cells) + 1), align_floats);
   l.tiles = c.cells / c.tile_cells;
   l.tile_floats = round_up(std::size_t(c.levels) * l.tiles * l.tiles, align_floats);
-  // height, grad_x, grad_y; four tile arrays; two fill rows.
-  l.total_floats = 3 * c.levels * l.level_floats + 4 * l.tile_floats + 2 * l.stride;
+  l.flag_floats = round_up((std::size_t(c.levels) * l.tiles * l.tiles + 3) / 4, align_floats);  // one byte per tile
+  // height, grad_x, grad_y; four tile arrays; the tiles' fill flags; two fill rows.
+  l.total_floats = 3 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats + 2 * l.stride;
   return l;
 }
 
@@ -106,7 +108,9 @@ Expected<SurfaceFrame> SurfaceFrame::create(const SurfaceFrameConfig& config) {
   f.tile_max_ = f.tile_min_ + l.tile_floats;
   f.tile_sx_ = f.tile_max_ + l.tile_floats;
   f.tile_sy_ = f.tile_sx_ + l.tile_floats;
-  f.row_x_ = f.tile_sy_ + l.tile_floats;
+  // Raw storage from operator new: bytes may live in it.
+  f.needed_ = reinterpret_cast<std::uint8_t*>(f.tile_sy_ + l.tile_floats);
+  f.row_x_ = f.tile_sy_ + l.tile_floats + l.flag_floats;
   f.row_y_ = f.row_x_ + l.stride;
   f.begin_frame(0.0f, 0.0f);
   f.global_ = {config.far_height, config.far_height, 0.0f, 0.0f};
@@ -131,6 +135,104 @@ void SurfaceFrame::begin_frame(float centre_x, float centre_y) noexcept {
     // The origin is within half a tile of centred; one more cell keeps bilinear taps inside.
     s.reach = float((0.5 * n - 0.5 * tc - 1.0) * cell);
   }
+  // The tiles anything can sample: those reaching level l's annulus, from where level l starts to be
+  // read as the blend partner of level l - 1 out to its reach (one cell of slack for rounding).
+  const double beta = config_.blend_fraction;
+  for (std::uint32_t l = 0; l < config_.levels; ++l) {
+    const SurfaceLevel& s = levels_[l];
+    const double cell = s.cell, tile = tc * cell;
+    const double inner = l == 0 ? -1.0 : (1.0 - beta) * levels_[l - 1].reach - cell, outer = double(s.reach) + cell;
+    for (std::uint32_t tj = 0; tj < tiles_; ++tj) {
+      for (std::uint32_t ti = 0; ti < tiles_; ++ti) {
+        const double x0 = s.origin_x + ti * tile, y0 = s.origin_y + tj * tile;
+        double r_lo, r_hi;
+        chebyshev_range(x0 - cell, x0 + tile + cell, y0 - cell, y0 + tile + cell, centre_x, centre_y, r_lo, r_hi);
+        needed_[(std::size_t(l) * tiles_ + tj) * tiles_ + ti] = r_lo <= outer && r_hi >= inner;
+      }
+    }
+  }
+}
+
+namespace {
+
+/// A horizontal wedge: the rays from `apex` between directions e1 and e2 (counter-clockwise, < 180 degrees).
+struct Wedge {
+  double ax, ay, e1x, e1y, e2x, e2y;
+
+  bool contains(double x, double y) const {
+    const double vx = x - ax, vy = y - ay;
+    return e1x * vy - e1y * vx >= 0.0 && vx * e2y - vy * e2x >= 0.0;
+  }
+  /// Whether the ray from the apex along (dx, dy) meets the box (slab method).
+  bool ray_meets(double dx, double dy, double x0, double x1, double y0, double y1) const {
+    double lo = 0.0, hi = std::numeric_limits<double>::infinity();
+    const double o[2] = {ax, ay}, d[2] = {dx, dy}, b0[2] = {x0, y0}, b1[2] = {x1, y1};
+    for (int k = 0; k < 2; ++k) {
+      if (d[k] == 0.0) {
+        if (o[k] < b0[k] || o[k] > b1[k]) return false;
+        continue;
+      }
+      double t0 = (b0[k] - o[k]) / d[k], t1 = (b1[k] - o[k]) / d[k];
+      if (t0 > t1) std::swap(t0, t1);
+      lo = std::max(lo, t0);
+      hi = std::min(hi, t1);
+    }
+    return lo <= hi;
+  }
+  /// Convex sets: they meet iff a box corner is inside the wedge or an edge ray meets the box.
+  bool meets_box(double x0, double x1, double y0, double y1) const {
+    return contains(x0, y0) || contains(x1, y0) || contains(x0, y1) || contains(x1, y1) ||
+           ray_meets(e1x, e1y, x0, x1, y0, y1) || ray_meets(e2x, e2y, x0, x1, y0, y1);
+  }
+};
+
+}  // namespace
+
+void SurfaceFrame::restrict_to_view(const Camera& cam) noexcept {
+  // The frustum is the cone spanned by the four corner rays; its horizontal projection is the wedge
+  // spanned by their projections, or the whole plane when the frustum holds the vertical.
+  const double th = 0.5 * double(cam.pixel_scale) * cam.width, tv = 0.5 * double(cam.pixel_scale) * cam.height;
+  for (double vz : {-1.0, 1.0}) {
+    const double x = vz * cam.right[2], y = vz * cam.up[2], z = vz * cam.forward[2];
+    if (z > 0.0 && std::fabs(x) <= th * z * 1.001 && std::fabs(y) <= tv * z * 1.001) return;  // everything visible
+  }
+  const double fx = cam.forward[0], fy = cam.forward[1], fn = std::hypot(fx, fy);
+  if (!(fn > 1e-6)) return;
+  double lo = 0.0, hi = 0.0;
+  for (double a : {-th, th}) {
+    for (double b : {-tv, tv}) {
+      const double x = cam.forward[0] + a * cam.right[0] + b * cam.up[0];
+      const double y = cam.forward[1] + a * cam.right[1] + b * cam.up[1];
+      if (!(std::hypot(x, y) > 1e-9)) return;  // a corner ray is vertical
+      const double angle = std::atan2(fx * y - fy * x, fx * x + fy * y);  // from the forward azimuth
+      lo = std::min(lo, angle);
+      hi = std::max(hi, angle);
+    }
+  }
+  constexpr double margin = 1e-3;  // rad
+  lo -= margin;
+  hi += margin;
+  if (hi - lo >= 3.1) return;  // (nearly) a half plane or more: keep everything
+  const double phi = std::atan2(fy, fx);
+  const Wedge w{cam.position[0], cam.position[1], std::cos(phi + lo), std::sin(phi + lo), std::cos(phi + hi),
+                std::sin(phi + hi)};
+  const double tc = config_.tile_cells;
+  for (std::uint32_t l = 0; l < config_.levels; ++l) {
+    const SurfaceLevel& s = levels_[l];
+    const double cell = s.cell, tile = tc * cell;
+    for (std::uint32_t tj = 0; tj < tiles_; ++tj) {
+      for (std::uint32_t ti = 0; ti < tiles_; ++ti) {
+        std::uint8_t& n = needed_[(std::size_t(l) * tiles_ + tj) * tiles_ + ti];
+        if (n == 0) continue;
+        const double x0 = s.origin_x + ti * tile, y0 = s.origin_y + tj * tile;
+        n = w.meets_box(x0 - cell, x0 + tile + cell, y0 - cell, y0 + tile + cell);
+      }
+    }
+  }
+}
+
+bool SurfaceFrame::tile_filled(std::uint32_t l, std::uint32_t tile_x, std::uint32_t tile_y) const noexcept {
+  return needed_[(std::size_t(l) * tiles_ + tile_y) * tiles_ + tile_x] != 0;
 }
 
 void SurfaceFrame::set_noise_bounds(float height_m, float slope) noexcept {
@@ -172,15 +274,30 @@ SurfaceFrameView SurfaceFrame::view() const noexcept {
 }
 
 void SurfaceFrame::fill(SurfaceSampler sampler, void* context) noexcept {
-  const std::uint32_t nodes = config_.cells + 1;
+  const std::uint32_t nodes = config_.cells + 1, tc = config_.tile_cells;
   for (std::uint32_t l = 0; l < config_.levels; ++l) {
     const SurfaceLevel& s = levels_[l];
+    const std::uint8_t* need = needed_ + std::size_t(l) * tiles_ * tiles_;
     // Node coordinates exactly as the marcher's grid coordinates invert them: origin + i * cell.
     for (std::uint32_t i = 0; i < nodes; ++i) row_x_[i] = s.origin_x + float(i) * s.cell;
     for (std::uint32_t j = 0; j < nodes; ++j) {
-      std::fill(row_y_, row_y_ + nodes, s.origin_y + float(j) * s.cell);
+      // The tile rows this node row belongs to (two on a tile boundary); runs of needed tiles.
+      const std::uint32_t upper = std::min(j / tc, tiles_ - 1), lower = j % tc == 0 && j > 0 ? j / tc - 1 : upper;
+      const float y = s.origin_y + float(j) * s.cell;
       const std::size_t o = j * stride_;
-      sampler(context, row_x_, row_y_, nodes, heights(l) + o, grad_x(l) + o, grad_y(l) + o);
+      for (std::uint32_t ti = 0; ti < tiles_;) {
+        const auto wanted = [&](std::uint32_t t) { return need[upper * tiles_ + t] != 0 || need[lower * tiles_ + t] != 0; };
+        if (!wanted(ti)) {
+          ++ti;
+          continue;
+        }
+        std::uint32_t end = ti + 1;
+        while (end < tiles_ && wanted(end)) ++end;
+        const std::size_t i0 = std::size_t(ti) * tc, count = std::size_t(end - ti) * tc + 1;
+        std::fill(row_y_, row_y_ + count, y);
+        sampler(context, row_x_ + i0, row_y_, count, heights(l) + o + i0, grad_x(l) + o + i0, grad_y(l) + o + i0);
+        ti = end;
+      }
     }
     // Level l - 1's bounds need this level (its blend partner): finish it while its rows are warm.
     if (l > 0) finish_level(l - 1);
@@ -217,6 +334,14 @@ void SurfaceFrame::finish_level(std::uint32_t l) noexcept {
 
   for (std::uint32_t tj = 0; tj < nt; ++tj) {
     for (std::uint32_t ti = 0; ti < nt; ++ti) {
+      const std::size_t k = base + std::size_t(tj) * nt + ti;
+      if (needed_[k] == 0) {
+        // Not filled: empty bounds (h_min > h_max); the finer tiles inside may still add theirs below.
+        tile_min_[k] = std::numeric_limits<float>::infinity();
+        tile_max_[k] = -std::numeric_limits<float>::infinity();
+        tile_sx_[k] = tile_sy_[k] = 0.0f;
+        continue;
+      }
       const std::uint32_t i0 = ti * tc, j0 = tj * tc;
       float lo = std::numeric_limits<float>::infinity(), hi = -lo, sx = 0.0f, sy = 0.0f;
       // Bilinear pieces take their extremes and steepest edges at nodes: nodes and edges suffice.
@@ -272,7 +397,6 @@ void SurfaceFrame::finish_level(std::uint32_t l) noexcept {
       }
       float slope_x = sx / s.cell + blend_slope, slope_y = sy / s.cell + blend_slope;
       add_margins(lo, hi, slope_x, slope_y);
-      const std::size_t k = base + std::size_t(tj) * nt + ti;
       tile_min_[k] = lo;
       tile_max_[k] = hi;
       tile_sx_[k] = slope_x;
@@ -305,6 +429,7 @@ void SurfaceFrame::finish_level(std::uint32_t l) noexcept {
           chebyshev_range(fx0, fx0 + ftile, fy0, fy0 + ftile, cx, cy, f_lo, f_hi);
           if (f_lo > inner) continue;
           const std::size_t fk = fbase + std::size_t(cj) * nt + std::size_t(ci);
+          if (!(tile_min_[fk] <= tile_max_[fk])) continue;  // empty: outside what rays can see
           tile_min_[k] = std::min(tile_min_[k], tile_min_[fk]);
           tile_max_[k] = std::max(tile_max_[k], tile_max_[fk]);
           tile_sx_[k] = std::max(tile_sx_[k], tile_sx_[fk]);
@@ -329,6 +454,7 @@ void SurfaceFrame::finish_global() noexcept {
       chebyshev_range(x0, x0 + tile_m, y0, y0 + tile_m, centre_x_, centre_y_, r_lo, r_hi);
       if (r_lo > s.reach) continue;
       const TileBounds t = tile(l, ti, tj);
+      if (!(t.h_min <= t.h_max)) continue;
       g.h_min = std::min(g.h_min, t.h_min);
       g.h_max = std::max(g.h_max, t.h_max);
       g.slope_x = std::max(g.slope_x, t.slope_x);
@@ -336,6 +462,16 @@ void SurfaceFrame::finish_global() noexcept {
     }
   }
   global_ = g;
+  // Tiles left empty are never sampled by the rays the fill was restricted to; give them the global
+  // bounds so that anything else reading them still gets finite, conservative values.
+  const std::size_t all = std::size_t(config_.levels) * nt * nt;
+  for (std::size_t k = 0; k < all; ++k) {
+    if (tile_min_[k] <= tile_max_[k]) continue;
+    tile_min_[k] = g.h_min;
+    tile_max_[k] = g.h_max;
+    tile_sx_[k] = g.slope_x;
+    tile_sy_[k] = g.slope_y;
+  }
 }
 
 namespace {

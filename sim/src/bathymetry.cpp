@@ -97,8 +97,16 @@ Bathymetry::Bathymetry(SeaFloor floor) : floor_(std::move(floor)) {
     blend_ = 0.1 * b.depth;
     if (b.slope > 0.0) scale = std::min(scale, 2.0 * blend_ / b.slope);
   }
-  for (const Shoal& s : floor_.shoals) scale = std::min({scale, s.semi_axis_a, s.semi_axis_b});
-  for (const Bar& s : floor_.bars) scale = std::min(scale, s.half_width);
+  for (const Shoal& s : floor_.shoals) {
+    scale = std::min({scale, s.semi_axis_a, s.semi_axis_b});
+    shoal_axis_.push_back(std::cos(s.orientation_deg * deg));
+    shoal_axis_.push_back(std::sin(s.orientation_deg * deg));
+  }
+  for (const Bar& s : floor_.bars) {
+    scale = std::min(scale, s.half_width);
+    bar_normal_.push_back(-std::sin(s.along_deg * deg));
+    bar_normal_.push_back(std::cos(s.along_deg * deg));
+  }
   for (const Channel& s : floor_.channels) scale = std::min(scale, s.half_width);
   if (floor_.height_map) scale = std::min(scale, floor_.height_map->cell);
   length_scale_ = scale;
@@ -137,8 +145,9 @@ DepthSample Bathymetry::sample(double x, double y) const noexcept {
     r.grad_x += m.grad_x;
     r.grad_y += m.grad_y;
   }
-  for (const Shoal& s : floor_.shoals) {
-    const double c = std::cos(s.orientation_deg * deg), sn = std::sin(s.orientation_deg * deg);
+  for (std::size_t i = 0; i < floor_.shoals.size(); ++i) {
+    const Shoal& s = floor_.shoals[i];
+    const double c = shoal_axis_[2 * i], sn = shoal_axis_[2 * i + 1];
     const double dx = x - s.center.x, dy = y - s.center.y;
     const double xa = (dx * c + dy * sn) / s.semi_axis_a, yb = (-dx * sn + dy * c) / s.semi_axis_b;
     const Profile p = cubic_profile(xa * xa + yb * yb);
@@ -149,8 +158,9 @@ DepthSample Bathymetry::sample(double x, double y) const noexcept {
     r.grad_x -= s.height * p.df * du_dx;
     r.grad_y -= s.height * p.df * du_dy;
   }
-  for (const Bar& s : floor_.bars) {
-    const double nx = -std::sin(s.along_deg * deg), ny = std::cos(s.along_deg * deg);
+  for (std::size_t i = 0; i < floor_.bars.size(); ++i) {
+    const Bar& s = floor_.bars[i];
+    const double nx = bar_normal_[2 * i], ny = bar_normal_[2 * i + 1];
     const double d = ((x - s.point.x) * nx + (y - s.point.y) * ny) / s.half_width;
     const Profile p = cubic_profile(d * d);
     if (p.f == 0.0) continue;

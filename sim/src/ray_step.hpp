@@ -13,14 +13,18 @@
 
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/dispersion.hpp"
+#include "dispersion_table.hpp"
 
 namespace houle::detail {
 
 /// The wave's local properties at a point.
 struct LocalWave {
-  double h = 0.0, hx = 0.0, hy = 0.0;  ///< depth and gradient (h clamped to the medium's floor)
+  double depth = 0.0;                  ///< m, the floor's depth there (may be <= 0: land)
+  double h = 0.0, hx = 0.0, hy = 0.0;  ///< depth used (clamped to the medium's floor) and its gradient
   double k = 0.0, kh = 0.0;            ///< rad/m
+  double tanh_kh = 0.0;
   double c = 0.0, cg = 0.0;            ///< m/s
+  double ks = 0.0;                     ///< shoaling coefficient sqrt(Cg0 / Cg)
   double bend = 0.0;                   ///< 2 / (2kh + sinh 2kh)
 };
 
@@ -37,25 +41,35 @@ struct Medium {
   double max_turn = 0.05;      ///< rad, largest turn per sub-step
 };
 
-inline LocalWave wave_from_depth(const Medium& m, double h, double kh_guess) noexcept {
+inline LocalWave wave_from_depth(const Medium& m, double depth) noexcept {
   LocalWave w;
-  w.h = std::max(h, m.h_eval_min);
-  w.kh = solve_kh(m.k0 * w.h, kh_guess);
+  w.depth = depth;
+  w.h = std::max(depth, m.h_eval_min);
+  w.kh = kh_from_table(m.k0 * w.h);
   w.k = w.kh / w.h;
-  const double t = std::tanh(w.kh);
-  w.c = gravity / m.omega * t;
-  // One sinh for n and for the bending factor; beyond 2kh = 40 both have reached their limits.
+  // tanh kh and sinh 2kh from one expm1 (e = e^{-2kh} - 1), without cancellation at small kh.
   const double two_kh = 2.0 * w.kh;
-  const double sh = two_kh < 40.0 ? std::sinh(two_kh) : std::numeric_limits<double>::infinity();
-  w.cg = w.c * group_velocity_ratio(w.kh);
-  w.bend = two_kh < 40.0 ? 2.0 / (two_kh + sh) : 0.0;
+  const double e = std::expm1(-two_kh);
+  w.tanh_kh = -e / (2.0 + e);
+  double n = 0.5;
+  if (two_kh < 2e-4) {
+    n = 1.0 - w.kh * w.kh / 3.0;
+    w.bend = 1.0 / (two_kh * (1.0 + two_kh * two_kh / 12.0));  // 2 / (2x + sinh 2x) to O(x^2)
+  } else if (two_kh < 40.0) {
+    const double sinh_2kh = -e * (2.0 + e) / (2.0 * (1.0 + e));
+    n = 0.5 * (1.0 + two_kh / sinh_2kh);
+    w.bend = 2.0 / (two_kh + sinh_2kh);
+  }
+  w.c = gravity / m.omega * w.tanh_kh;
+  w.cg = n * w.c;
+  w.ks = 1.0 / std::sqrt(2.0 * n * w.tanh_kh);
   return w;
 }
 
-inline LocalWave wave_at(const Medium& m, double x, double y, double kh_guess) noexcept {
+inline LocalWave wave_at(const Medium& m, double x, double y) noexcept {
   if (m.uniform) return m.uniform_wave;
   const DepthSample d = m.floor->sample(x, y);
-  LocalWave w = wave_from_depth(m, d.depth, kh_guess);
+  LocalWave w = wave_from_depth(m, d.depth);
   w.hx = d.depth > m.h_eval_min ? d.grad_x : 0.0;
   w.hy = d.depth > m.h_eval_min ? d.grad_y : 0.0;
   return w;
@@ -79,26 +93,28 @@ inline RayRate ray_rate(const LocalWave& w, double theta) noexcept {
   return {c * inv_k, s * inv_k, -w.bend * (-s * w.hx + c * w.hy), inv_k, inv_k / w.cg};
 }
 
+inline RayState lerp(const RayState& a, const RayState& b, double u) noexcept {
+  return {a.x + u * (b.x - a.x), a.y + u * (b.y - a.y), a.theta + u * (b.theta - a.theta),
+          a.phi + u * (b.phi - a.phi), a.s + u * (b.s - a.s), a.tau + u * (b.tau - a.tau)};
+}
+
 /// Advances `st` by dphi > 0 (its wave at the start is `w`, updated to the end). After each sub-step,
-/// `stop(from, to)` returns where along that chord (0..1) an event happens, or > 1 for none; on an
-/// event the state is interpolated there, `w` re-evaluated, and advance returns true.
+/// `stop(from, to, depth_at_to)` returns where along that chord (0..1) an event happens, or > 1 for
+/// none; on an event the state is interpolated there, `w` re-evaluated, and advance returns true.
 template <class Stop>
 bool advance(const Medium& m, RayState& st, LocalWave& w, double dphi, Stop&& stop) {
   if (m.uniform) {
     // Straight line at constant k: exact.
     RayState next = st;
-    next.x += std::cos(st.theta) * dphi / w.k;
-    next.y += std::sin(st.theta) * dphi / w.k;
+    const double ds = dphi / w.k;
+    next.x += std::cos(st.theta) * ds;
+    next.y += std::sin(st.theta) * ds;
     next.phi += dphi;
-    next.s += dphi / w.k;
-    next.tau += dphi / (w.k * w.cg);
-    const double u = stop(st, next);
+    next.s += ds;
+    next.tau += ds / w.cg;
+    const double u = stop(st, next, w.depth);
     if (u <= 1.0) {
-      st.x += u * (next.x - st.x);
-      st.y += u * (next.y - st.y);
-      st.phi += u * dphi;
-      st.s += u * (next.s - st.s);
-      st.tau += u * (next.tau - st.tau);
+      st = lerp(st, next, u);
       return true;
     }
     st = next;
@@ -111,13 +127,12 @@ bool advance(const Medium& m, RayState& st, LocalWave& w, double dphi, Stop&& st
   const double h = dphi / n;
   for (int i = 0; i < n; ++i) {
     // Classical RK4 on (x, y, theta); s and tau ride along.
-    const double guess = w.kh;
-    const RayRate k1 = r0;
-    const LocalWave w2 = wave_at(m, st.x + 0.5 * h * k1.x, st.y + 0.5 * h * k1.y, guess);
+    const RayRate& k1 = r0;
+    const LocalWave w2 = wave_at(m, st.x + 0.5 * h * k1.x, st.y + 0.5 * h * k1.y);
     const RayRate k2 = ray_rate(w2, st.theta + 0.5 * h * k1.theta);
-    const LocalWave w3 = wave_at(m, st.x + 0.5 * h * k2.x, st.y + 0.5 * h * k2.y, guess);
+    const LocalWave w3 = wave_at(m, st.x + 0.5 * h * k2.x, st.y + 0.5 * h * k2.y);
     const RayRate k3 = ray_rate(w3, st.theta + 0.5 * h * k2.theta);
-    const LocalWave w4 = wave_at(m, st.x + h * k3.x, st.y + h * k3.y, guess);
+    const LocalWave w4 = wave_at(m, st.x + h * k3.x, st.y + h * k3.y);
     const RayRate k4 = ray_rate(w4, st.theta + h * k3.theta);
     RayState next = st;
     next.x += h / 6.0 * (k1.x + 2.0 * k2.x + 2.0 * k3.x + k4.x);
@@ -126,19 +141,15 @@ bool advance(const Medium& m, RayState& st, LocalWave& w, double dphi, Stop&& st
     next.s += h / 6.0 * (k1.s + 2.0 * k2.s + 2.0 * k3.s + k4.s);
     next.tau += h / 6.0 * (k1.tau + 2.0 * k2.tau + 2.0 * k3.tau + k4.tau);
     next.phi += h;
-    const double u = stop(st, next);
+    const LocalWave w_next = wave_at(m, next.x, next.y);
+    const double u = stop(st, next, w_next.depth);
     if (u <= 1.0) {
-      st.x += u * (next.x - st.x);
-      st.y += u * (next.y - st.y);
-      st.theta += u * (next.theta - st.theta);
-      st.phi += u * h;
-      st.s += u * (next.s - st.s);
-      st.tau += u * (next.tau - st.tau);
-      w = wave_at(m, st.x, st.y, guess);
+      st = lerp(st, next, u);
+      w = wave_at(m, st.x, st.y);
       return true;
     }
     st = next;
-    w = wave_at(m, st.x, st.y, guess);
+    w = w_next;
     r0 = ray_rate(w, st.theta);
   }
   return false;

@@ -68,7 +68,7 @@ Medium make_medium(const Scene& scene, const Bathymetry& floor, double omega, do
   m.k0 = deep_water_wavenumber(omega);
   m.h_eval_min = 0.5 * h_min;
   m.uniform = floor.uniform();
-  if (m.uniform) m.uniform_wave = wave_from_depth(m, scene.floor.base.depth, 0.0);
+  if (m.uniform) m.uniform_wave = wave_from_depth(m, scene.floor.base.depth);
   m.ds_max = 0.25 * floor.length_scale();
   return m;
 }
@@ -99,9 +99,10 @@ Front make_front(const Scene& scene, std::size_t train, const DwtSettings& set, 
     c_lo = mid - 0.5 * set.front_width;
     width = set.front_width;
   }
+  // Automatic count: spacing strictly below b_max, so a flat bottom needs no insertion at all.
   const std::size_t n = set.initial_rays > 0
                             ? set.initial_rays
-                            : std::max<std::size_t>(2, std::size_t(std::ceil(width / set.insertion_distance)));
+                            : std::max<std::size_t>(2, std::size_t(std::floor(width / set.insertion_distance)) + 1);
   f.entries.resize(n);
   f.k_ref = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < n; ++i) {
@@ -115,7 +116,7 @@ Front make_front(const Scene& scene, std::size_t train, const DwtSettings& set, 
     e.y = py + t0 * f.dy;
     const double h = medium.floor->depth(e.x, e.y);
     if (!(h > f.h_min)) continue;
-    e.wave = wave_at(medium, e.x, e.y, 0.0);
+    e.wave = wave_at(medium, e.x, e.y);
     e.water = true;
     e.phi = e.wave.k * t0;
     e.tau = t0 / e.wave.cg;
@@ -127,22 +128,44 @@ Front make_front(const Scene& scene, std::size_t train, const DwtSettings& set, 
 
 double path_limit(const Domain& d) noexcept { return 4.0 * ((d.x_max - d.x_min) + (d.y_max - d.y_min)); }
 
+double dist(double x, double y) noexcept { return std::sqrt(x * x + y * y); }  // no need for hypot's range care
+
+// ---- Diffraction coefficients ---------------------------------------------------------------------
+
+// K' of `model` at r/L, theta in the breakwater frame. The exact model goes straight to the field
+// (diffraction() would also validate and build the phase, twice the cost for the same modulus).
+double coefficient(DiffractionModel model, double r_over_l, double theta, double theta0, double alpha) {
+  if (model == DiffractionModel::exact) return std::abs(sommerfeld_field(two_pi * r_over_l, theta, theta0, alpha));
+  const auto d = diffraction(model, r_over_l, theta, theta0, alpha);
+  return d.ok() ? d->K : 1.0;
+}
+
+// K' varies over half a wavelength or more along a ray (faster near the pierhead), so it is computed
+// exactly at knots along each ray at most knot_spacing() apart and interpolated in between.
+// Undiffracted samples take the incident-only coefficient where v (physics.md 4.4, pi/2 convention)
+// is below band_end, blended to 1 from band_start.
+constexpr double band_start = 4.0, band_end = 8.0;
+
 // ---- The tracer --------------------------------------------------------------------------------
 
 struct Ray {
   RayState st{};
+  double cos_t = 1.0, sin_t = 0.0;  // of st.theta
   LocalWave w{};                 // the wave at st
   double a_geo = 0.0;            // m, amplitude from shoaling and tube width (no K', capped)
   double a_prev = 0.0, cg_prev = 0.0;  // at the previous sample
+  double width_ratio = 1.0;      // b_prev / b over the last full step (for a final partial step)
   std::int32_t family = -1;      // fan index, or -1 for the incident wave
   double theta0 = 0.0;           // direction at birth
   std::int32_t parent_a = -1, parent_b = -1;
   std::uint8_t flags = 0;
   std::int32_t first_step = -1;
   bool alive = true;             // not ended (pending rays are alive)
+  bool entering = false;         // an initial ray that has not reached the domain: outside it, on a
+                                 // straight path in uniform water, it still bounds its neighbours' tubes
   bool joined = false;           // has reached the phase grid
   bool joined_now = false;       // its first on-grid sample is this step's
-  bool fresh = false;            // born complete on this step (fans): nothing to update
+  bool fresh = false;            // born complete on this step (fans, insertions): nothing to update
   std::uint32_t last_sample = 0;
   std::uint32_t wall = 0;        // the wall it hit (when hit_wall)
   double hit_x = 0.0, hit_y = 0.0;
@@ -151,7 +174,15 @@ struct Ray {
   double tube_sigma = 0.0;       // perpendicular spacing, m
   double tube_b = 0.0;           // width used for amplitude (sigma, or sigma / d in a fan)
   bool tube_crossed = false;
-  std::int32_t crossed_with = -1;  // this step: next ray it is found crossed with
+  std::int32_t crossed_with = -1;  // this step: the next ray it is found crossed with
+  // The last exact K' along this ray and where (path length s) it was computed.
+  bool has_knot = false;
+  double knot_k = 1.0, knot_s = 0.0, knot_gap = 0.0;
+
+  void sync_direction() noexcept {
+    cos_t = std::cos(st.theta);
+    sin_t = std::sin(st.theta);
+  }
 };
 
 struct Fan {
@@ -164,22 +195,25 @@ struct Fan {
   double phi_o = 0.0, tau_o = 0.0;
   double theta0 = 0.0;              // incidence in the breakwater frame
   double v_scale = 0.0;             // sqrt(4 k / pi): v = v_scale sqrt(r) cos((theta - theta0) / 2)
+  double d0x = 0.0, d0y = 0.0;      // world unit vector at angle theta0 in the frame (towards the waves' origin)
 };
 
 // Samples in the order they are produced; sorted per ray at the end.
 struct SampleStore {
   std::vector<double> x, y, theta, k, amplitude, phase, time;
   std::vector<std::uint8_t> flags;
+  // Samples with a diffraction coefficient hold a_geo in `amplitude`, their breaking limit in
+  // a_break and, at knots, the exact K' in k_exact (NaN elsewhere); K' is applied after the sweep.
+  std::vector<double> a_break, k_exact;
   std::vector<std::int32_t> ray;
   void reserve(std::size_t n) {
-    for (auto* v : {&x, &y, &theta, &k, &amplitude, &phase, &time}) v->reserve(n);
+    for (auto* v : {&x, &y, &theta, &k, &amplitude, &phase, &time, &a_break, &k_exact}) v->reserve(n);
     flags.reserve(n);
     ray.reserve(n);
   }
   std::size_t size() const noexcept { return x.size(); }
 };
 
-// One candidate event on a chord, for the stop callback.
 enum class Stop : std::uint8_t { none, wall, domain, shore };
 
 class TrainTracer {
@@ -233,12 +267,12 @@ class TrainTracer {
 
   double max_k() const noexcept {
     // The shortest waves are at h_min: no ray has more phase per metre.
-    return wave_from_depth(medium_, h_min_, 0.0).k;
+    return wave_from_depth(medium_, h_min_).k;
   }
 
   std::size_t estimate_samples() const noexcept {
     const Domain& d = scene_.domain;
-    const double across = std::hypot(d.x_max - d.x_min, d.y_max - d.y_min);
+    const double across = dist(d.x_max - d.x_min, d.y_max - d.y_min);
     const double per_ray = across / set_.step + 2.0;
     return std::size_t(4.0 * double(front_.entries.size()) * per_ray) + 1024;
   }
@@ -260,28 +294,26 @@ class TrainTracer {
         continue;
       }
       r.st = RayState{e.x, e.y, std::atan2(front_.dy, front_.dx), e.phi, 0.0, e.tau};
+      r.sync_direction();
       r.theta0 = r.st.theta;
       r.w = e.wave;
-      r.a_geo = train_.amplitude * shoaling_coefficient(e.wave.kh);
+      r.a_geo = train_.amplitude * e.wave.ks;
       r.cg_prev = r.w.cg;
+      r.entering = true;
       any_alive_ = true;
-      const std::int64_t js = grid_step_at_or_after(e.phi);
-      first_step_ = std::min(first_step_, js);
-      write_sample(id, r.st, r.w, on_grid(e.phi) ? 0 : sample_flag::off_grid);
-      finalize(id, rays_[std::size_t(id)].last_sample);
+      first_step_ = std::min(first_step_, grid_step_at_or_after(e.phi));
+      write_sample(id, r.st, r.w, on_grid(e.phi) ? std::uint8_t(0) : sample_flag::off_grid);
+      finalize(id);
     }
     if (first_step_ == std::numeric_limits<std::int64_t>::max()) first_step_ = 0;
   }
 
   double grid_phase(std::int64_t j) const noexcept { return double(j) * front_.dphi; }
-  bool on_grid(double phi) const noexcept {
-    const double j = std::round(phi / front_.dphi);
-    return grid_phase(std::int64_t(j)) == phi;
-  }
+  bool on_grid(double phi) const noexcept { return grid_phase(std::int64_t(std::round(phi / front_.dphi))) == phi; }
   std::int64_t grid_step_at_or_after(double phi) const noexcept {
     std::int64_t j = std::int64_t(std::ceil(phi / front_.dphi));
     while (grid_phase(j) < phi) ++j;
-    while (j > 0 && grid_phase(j - 1) >= phi) --j;
+    while (grid_phase(j - 1) >= phi) --j;
     return j;
   }
 
@@ -300,77 +332,119 @@ class TrainTracer {
     samples_.phase.push_back(st.phi);
     samples_.time.push_back(st.tau);
     samples_.flags.push_back(flags);
+    samples_.a_break.push_back(0.0);
+    samples_.k_exact.push_back(std::numeric_limits<double>::quiet_NaN());
     samples_.ray.push_back(id);
     rays_[std::size_t(id)].last_sample = std::uint32_t(samples_.size() - 1);
     ++stats_.samples;
   }
 
-  // Diffraction coefficient, breaking caps and flags for sample `s` of ray `id` (whose a_geo is the
-  // geometric amplitude there); may dissipate a_geo.
-  void finalize(std::int32_t id, std::uint32_t s) {
-    Ray& r = rays_[std::size_t(id)];
-    if (s >= samples_.size() || samples_.ray[s] != id) return;  // the sample cap refused it
-    const double x = samples_.x[s], y = samples_.y[s];
-    double K = 1.0;
-    std::uint8_t flags = samples_.flags[s];
-    if (r.family >= 0) {
-      const Fan& f = fans_[std::size_t(r.family)];
+  // Does an undiffracted sample at (x, y) lie in some fan's lit-side band?
+  bool in_band(double x, double y) const noexcept {
+    for (const Fan& f : fans_) {
+      // |v| = v_scale sqrt((r + p.d0) / 2), d0 the unit vector towards theta0: no atan2 needed to
+      // see that a point is far from the shadow line (|v| >= band_end: outside the band either side).
+      const double px = x - f.site.x, py = y - f.site.y;
+      const double r = dist(px, py);
+      if (f.v_scale * f.v_scale * 0.5 * (r + px * f.d0x + py * f.d0y) >= band_end * band_end) continue;
+      const BreakwaterPolar p = breakwater_polar(f.frame, x, y);
+      if (p.theta > pi + f.theta0) continue;
+      if (f.v_scale * std::sqrt(p.r) * std::cos(0.5 * (p.theta - f.theta0)) < band_end) return true;
+    }
+    return false;
+  }
+
+  // K' at a sample of a ray of `family` (-1: undiffracted) with phase phi.
+  double k_factor(std::int32_t family, double x, double y, double phi) {
+    if (family >= 0) {
+      const Fan& f = fans_[std::size_t(family)];
       const BreakwaterPolar p = breakwater_polar(f.frame, x, y);
       // Optical distance from M (physics.md 4.7): the phase gained since M, in wavelengths.
-      const double r_over_l = std::max(0.0, (samples_.phase[s] - f.phi_m) / two_pi);
+      const double r_over_l = std::max(0.0, (phi - f.phi_m) / two_pi);
+      // A sample exactly on the structure's line can only be on its lee face (fans start there).
       const double theta = p.kind == BreakwaterPointKind::on_structure ? two_pi : p.theta;
-      const auto d = diffraction(set_.diffraction_model, r_over_l, theta, f.theta0, f.site.reflection);
-      if (d.ok()) K = d->K;
-      flags |= sample_flag::diffraction;
       ++stats_.diffraction_evaluations;
-    } else {
-      for (const Fan& f : fans_) {
-        // Undiffracted rays near a shadow line: the incident-only coefficient |G(s1)| (they carry no
-        // reflected wave), blended to 1 from v = 4 to 8 so that nothing jumps at the band's edge.
-        const BreakwaterPolar p = breakwater_polar(f.frame, x, y);
-        if (p.theta > pi + f.theta0) continue;  // not this pierhead's lit side
-        const double v = f.v_scale * std::sqrt(p.r) * std::cos(0.5 * (p.theta - f.theta0));
-        if (v >= 8.0) continue;
-        const auto d = diffraction(set_.diffraction_model, p.r_over_L, p.theta, f.theta0, 0.0);
-        ++stats_.diffraction_evaluations;
-        if (!d.ok()) continue;
-        const double t = std::clamp((v - 4.0) / 4.0, 0.0, 1.0);
-        const double blend = t * t * (3.0 - 2.0 * t);
-        K *= d->K + (1.0 - d->K) * blend;
-        flags |= sample_flag::diffraction;
-      }
+      return coefficient(set_.diffraction_model, r_over_l, theta, f.theta0, f.site.reflection);
     }
-    // Breaking: H <= gamma_b h (depth-limited) and H <= 0.142 L tanh kh (Miche), as amplitudes.
-    const double L = two_pi / r.w.k;
-    const double a_break = std::min(0.5 * set_.breaker_index * r.w.h, 0.071 * L * std::tanh(r.w.kh));
+    double K = 1.0;
+    for (const Fan& f : fans_) {
+      // Undiffracted rays near a shadow line: the incident-only coefficient |G(s1)| (they carry no
+      // reflected wave), blended to 1 from v = 4 to 8 so that nothing jumps at the band's edge.
+      const double px = x - f.site.x, py = y - f.site.y;
+      if (f.v_scale * f.v_scale * 0.5 * (dist(px, py) + px * f.d0x + py * f.d0y) >= band_end * band_end) continue;
+      const BreakwaterPolar p = breakwater_polar(f.frame, x, y);
+      if (p.theta > pi + f.theta0) continue;  // not this pierhead's lit side
+      const double v = f.v_scale * std::sqrt(p.r) * std::cos(0.5 * (p.theta - f.theta0));
+      if (v >= band_end) continue;
+      ++stats_.diffraction_evaluations;
+      const double kf = coefficient(set_.diffraction_model, p.r_over_L, p.theta, f.theta0, 0.0);
+      const double t = std::clamp((v - band_start) / (band_end - band_start), 0.0, 1.0);
+      K *= kf + (1.0 - kf) * (t * t * (3.0 - 2.0 * t));
+    }
+    return K;
+  }
+
+  // How far along a ray K' may go between exact evaluations: a quarter wavelength, less near the
+  // pierhead where K' changes faster (a third of the distance to it, at least L/64).
+  double knot_spacing(std::int32_t family, double x, double y, double k) const noexcept {
+    const double wavelength = two_pi / k;
+    return std::clamp(distance_to_pierhead(family, x, y) / 3.0, wavelength / 64.0, wavelength / 4.0);
+  }
+
+  // Amplitude of ray id's latest sample from its a_geo, then the breaking caps H <= gamma_b h and
+  // H <= 0.142 L tanh kh (the excess is dissipated from a_geo). Where a diffraction coefficient
+  // applies, the caps use K' from the ray's last knot (exact K' is computed when that is more than a
+  // knot spacing back); the sample keeps a_geo and its limit, and gets interpolated K' and the caps
+  // again after the sweep (apply_diffraction).
+  void finalize(std::int32_t id) {
+    Ray& r = rays_[std::size_t(id)];
+    const std::uint32_t s = r.last_sample;
+    if (s >= samples_.size() || samples_.ray[s] != id) return;  // the sample cap refused it
+    const double a_break = std::min(0.5 * set_.breaker_index * r.w.h, 0.071 * two_pi / r.w.k * r.w.tanh_kh);
+    const double x = samples_.x[s], y = samples_.y[s];
+    const bool diffracts = r.family >= 0 || (!fans_.empty() && in_band(x, y));
+    double K = 1.0;
+    if (diffracts) {
+      samples_.flags[s] |= sample_flag::diffraction;
+      if (!r.has_knot || r.st.s - r.knot_s >= r.knot_gap || r.st.s < r.knot_s) {
+        r.knot_k = k_factor(r.family, x, y, samples_.phase[s]);
+        r.knot_s = r.st.s;
+        r.knot_gap = knot_spacing(r.family, x, y, r.w.k);
+        r.has_knot = true;
+        samples_.k_exact[s] = r.knot_k;
+      }
+      K = r.knot_k;
+    }
     double a = r.a_geo * K;
     if (a > a_break) {
       a = a_break;
-      if (K > 0.0) r.a_geo = a_break / K;  // the excess is dissipated, not carried on
-      flags |= sample_flag::broken;
+      if (K > 0.0) r.a_geo = a_break / K;
+      samples_.flags[s] |= sample_flag::broken;
       if (!(r.flags & ray_flag::broken)) ++stats_.broken_rays;
       r.flags |= ray_flag::broken;
     }
-    samples_.amplitude[s] = a;
-    samples_.flags[s] = flags;
+    samples_.amplitude[s] = diffracts ? r.a_geo : a;
+    samples_.a_break[s] = a_break;
   }
 
   // ---- stepping ----
 
   // Where along the chord a -> b (0..1) the ray meets a wall, the domain's edge or the shoreline
   // (depth h_min), whichever comes first; > 1 if none.
-  double chord_event(const RayState& a, const RayState& b, Stop& why, std::uint32_t& wall) const noexcept {
+  double chord_event(const RayState& a, const RayState& b, double depth_b, Stop& why, std::uint32_t& wall) const noexcept {
     double u = 2.0;
     why = Stop::none;
-    const WallHit hit = first_wall_hit(capsules_, a.x, a.y, b.x, b.y);
-    if (hit.hit) u = hit.u, why = Stop::wall, wall = hit.wall;
+    if (!capsules_.empty()) {
+      const WallHit hit = first_wall_hit(capsules_, a.x, a.y, b.x, b.y);
+      if (hit.hit) u = hit.u, why = Stop::wall, wall = hit.wall;
+    }
     const Domain& d = scene_.domain;
     if (b.x < d.x_min || b.x > d.x_max || b.y < d.y_min || b.y > d.y_max) {
       double t0 = 0.0, t1 = 0.0;
       const double ex = clip_line(d, a.x, a.y, b.x - a.x, b.y - a.y, t0, t1) ? std::clamp(t1, 0.0, 1.0) : 0.0;
       if (ex < u) u = ex, why = Stop::domain;
     }
-    if (!medium_.uniform && floor_.depth(b.x, b.y) <= h_min_) {
+    if (depth_b <= h_min_) {
       // Bisection on the chord for depth = h_min (the floor is continuous).
       double lo = 0.0, hi = 1.0;
       if (floor_.depth(a.x, a.y) <= h_min_) hi = 0.0;
@@ -389,8 +463,10 @@ class TrainTracer {
     Ray& r = rays_[std::size_t(id)];
     Stop why = Stop::none;
     std::uint32_t wall = 0;
-    auto stop = [&](const RayState& a, const RayState& b) { return chord_event(a, b, why, wall); };
-    if (!advance(medium_, r.st, r.w, dphi, stop)) return true;
+    auto stop = [&](const RayState& a, const RayState& b, double depth_b) { return chord_event(a, b, depth_b, why, wall); };
+    const bool ended = advance(medium_, r.st, r.w, dphi, stop);
+    if (!medium_.uniform) r.sync_direction();  // straight rays keep theta
+    if (!ended) return true;
     r.alive = false;
     r.flags |= ray_flag::dead;
     if (why == Stop::wall) {
@@ -410,18 +486,21 @@ class TrainTracer {
   }
 
   // move_ray within the sweep: a ray that ends gets its end point as an off-grid sample, shoaled over
-  // the partial step with its tube width unchanged.
+  // the partial step, its tube widening as over the last full step (in proportion to the phase).
   bool advance_ray(std::int32_t id, double dphi) {
+    const double phi0 = rays_[std::size_t(id)].st.phi;
     if (move_ray(id, dphi)) return true;
     Ray& r = rays_[std::size_t(id)];
-    r.a_geo *= std::sqrt(r.cg_prev / r.w.cg);
+    const double u = std::clamp((r.st.phi - phi0) / front_.dphi, 0.0, 1.0);
+    r.a_geo *= std::sqrt(r.cg_prev / r.w.cg * std::pow(r.width_ratio, u));
     const std::uint8_t crossed = (r.flags & ray_flag::crossed) ? sample_flag::crossed : std::uint8_t(0);
     write_sample(id, r.st, r.w, std::uint8_t(sample_flag::off_grid | crossed));
-    finalize(id, r.last_sample);
+    finalize(id);
     return false;
   }
 
   void step(std::int32_t j) {
+    step_ = j;
     const double phi_j = grid_phase(j);
     any_alive_ = false;
     // A: advance every live ray to this wavefront.
@@ -438,6 +517,7 @@ class TrainTracer {
       if (!r.joined) {
         if (r.st.phi > phi_j) continue;  // enters later
         r.joined = r.joined_now = true;
+        r.entering = false;
         r.first_step = j;
         if (r.st.phi == phi_j) continue;  // its start sample is on this step already
         dphi = phi_j - r.st.phi;
@@ -457,33 +537,74 @@ class TrainTracer {
     // B: fans at pierheads the front has just passed.
     if (!sites_.empty()) spawn_fans(j);
     // C: tubes, caustics and amplitudes on this wavefront.
+    measure_tubes();
     update_amplitudes();
     // D: insertion where live neighbours are too far apart.
-    for (int pass = 0; pass < max_insertion_passes; ++pass) {
-      if (!insert_rays(j)) break;
-    }
+    for (int pass = 0; pass < max_insertion_passes && insert_rays(j); ++pass) measure_tubes();
     // E: remember this wavefront's tubes for the next step; mark sound tubes for tessellation.
     record_tubes();
   }
 
   bool live_on_step(const Ray& r) const noexcept { return r.alive && r.joined; }
 
+  // Where a ray is on the current wavefront: its state if it is live there, or for an initial ray
+  // still outside the domain the point of its straight entry path with that phase (the outside is
+  // uniform water, where the wavefront is straight). False for anything else.
+  struct Pose {
+    double x, y, cos_t, sin_t;
+  };
+  bool pose_on_step(const Ray& r, double phi_j, Pose& p) const noexcept {
+    if (live_on_step(r)) {
+      p = Pose{r.st.x, r.st.y, r.cos_t, r.sin_t};
+      return true;
+    }
+    if (!r.alive || !r.entering || r.st.phi < phi_j) return false;
+    const double back = (r.st.phi - phi_j) / r.w.k;
+    p = Pose{r.st.x - r.cos_t * back, r.st.y - r.sin_t * back, r.cos_t, r.sin_t};
+    return true;
+  }
+
   // Perpendicular spacing of b from a across their mean direction (> 0 when b is to a's left).
-  static double spacing(const Ray& a, const Ray& b) noexcept {
-    double mx = std::cos(a.st.theta) + std::cos(b.st.theta), my = std::sin(a.st.theta) + std::sin(b.st.theta);
-    const double n = std::hypot(mx, my);
-    if (!(n > 1e-12)) return -1.0;  // opposite directions: treat as crossed
-    mx /= n;
-    my /= n;
-    return (b.st.x - a.st.x) * -my + (b.st.y - a.st.y) * mx;
+  static double spacing(const Pose& a, const Pose& b) noexcept {
+    const double mx = a.cos_t + b.cos_t, my = a.sin_t + b.sin_t;
+    const double n2 = mx * mx + my * my;
+    if (!(n2 > 1e-24)) return -1.0;  // opposite directions: treat as crossed
+    return ((b.x - a.x) * -my + (b.y - a.y) * mx) / std::sqrt(n2);
   }
 
   // Tube width used for amplitude: sigma, or sigma / d (distance from the pierhead) within a fan.
-  double tube_width(const Ray& a, const Ray& b, double sigma) const noexcept {
-    if (a.family < 0) return sigma;
-    const Fan& f = fans_[std::size_t(a.family)];
-    const double d = 0.5 * (std::hypot(a.st.x - f.site.x, a.st.y - f.site.y) + std::hypot(b.st.x - f.site.x, b.st.y - f.site.y));
+  double tube_width(std::int32_t family, const Pose& a, const Pose& b, double sigma) const noexcept {
+    if (family < 0) return sigma;
+    // Distances from where the fan's rays start (the lee corner on a thick wall), so that a radial
+    // fan on a flat bottom has sigma / d constant exactly.
+    const Fan& f = fans_[std::size_t(family)];
+    const double ax = a.x - f.ox, ay = a.y - f.oy, bx = b.x - f.ox, by = b.y - f.oy;
+    const double d = 0.5 * (std::sqrt(ax * ax + ay * ay) + std::sqrt(bx * bx + by * by));
     return d > 0.0 ? sigma / d : 0.0;
+  }
+
+  // Spacing and tube width of every neighbour pair in order_ that has a pose on this wavefront (NaN
+  // otherwise); pair_real_ marks pairs of two live rays (only those may insert or be tessellated).
+  void measure_tubes() {
+    const std::size_t n = order_.size();
+    const double phi_j = grid_phase(step_);
+    pair_sigma_.assign(n, std::numeric_limits<double>::quiet_NaN());
+    pair_width_.assign(n, 0.0);
+    pair_real_.assign(n, 0);
+    Pose pa{}, pb{};
+    bool has_a = n > 0 && pose_on_step(rays_[std::size_t(order_[0])], phi_j, pa);
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+      const Ray& a = rays_[std::size_t(order_[i])];
+      const Ray& b = rays_[std::size_t(order_[i + 1])];
+      const bool has_b = pose_on_step(b, phi_j, pb);
+      if (has_a && has_b) {
+        pair_sigma_[i] = spacing(pa, pb);
+        pair_width_[i] = tube_width(a.family, pa, pb, pair_sigma_[i]);
+        pair_real_[i] = live_on_step(a) && live_on_step(b);
+      }
+      pa = pb;
+      has_a = has_b;
+    }
   }
 
   void update_amplitudes() {
@@ -493,14 +614,15 @@ class TrainTracer {
     pair_b_now_.assign(n, 0.0);
     pair_crossed_.assign(n, 0);
     for (std::size_t i = 0; i + 1 < n; ++i) {
+      const double sigma = pair_sigma_[i];
+      if (std::isnan(sigma)) continue;
       Ray& a = rays_[std::size_t(order_[i])];
       Ray& b = rays_[std::size_t(order_[i + 1])];
-      if (!live_on_step(a) || !live_on_step(b)) continue;
-      const double sigma = spacing(a, b);
       const bool persisted = a.tube_next == order_[i + 1];
       bool crossed = sigma <= 0.0;
       if (persisted) {
         if (!a.tube_crossed && a.tube_sigma > 0.0 && sigma <= 0.0) {
+          // Neighbours swapped sides: a caustic between them (physics.md 2.5).
           ++stats_.crossings;
           a.flags |= ray_flag::crossed;
           b.flags |= ray_flag::crossed;
@@ -513,7 +635,7 @@ class TrainTracer {
         continue;
       }
       if (!persisted || a.family != b.family || a.fresh || b.fresh) continue;
-      const double width = tube_width(a, b, sigma);
+      const double width = pair_width_[i];
       if (!(a.tube_b > 0.0) || !(width > 0.0)) continue;
       pair_ok_[i] = 1;
       pair_b_prev_[i] = a.tube_b;
@@ -535,12 +657,13 @@ class TrainTracer {
         crossed = crossed || pair_crossed_[i];
       }
       // Energy flux A^2 Cg b is constant along the tube (physics.md 2.3).
-      const double ratio = tubes > 0 && !r.joined_now ? w_prev / w_now : 1.0;
+      const double ratio = tubes > 0 ? w_prev / w_now : 1.0;
+      if (!r.joined_now) r.width_ratio = ratio;
       r.a_geo = r.a_prev * std::sqrt(r.cg_prev / r.w.cg * ratio);
       // Caustic cap: Kr <= Kr_max (physics.md 2.5, cap 2).
-      r.a_geo = std::min(r.a_geo, set_.max_refraction_coefficient * train_.amplitude * shoaling_coefficient(r.w.kh));
+      r.a_geo = std::min(r.a_geo, set_.max_refraction_coefficient * train_.amplitude * r.w.ks);
       if (crossed) samples_.flags[r.last_sample] |= sample_flag::crossed;
-      finalize(id, r.last_sample);
+      finalize(id);
     }
   }
 
@@ -564,34 +687,38 @@ class TrainTracer {
     if (!pending_.empty()) apply_insertions();
   }
 
+  // [GL98] 2.2.1: ray `dead_id` ended on the wall of site s and its live neighbour `live_id` (R1)
+  // has passed the site's pierhead M: a fan of DIFFRACTED rays from R1's direction to the wall's.
   bool try_spawn(std::size_t s, std::int32_t live_id, std::int32_t dead_id, int side, std::size_t pos, std::int32_t j) {
     const PierheadSite site = sites_[s];
     // Copies: rays_ grows while the fan is traced.
     const Ray b = rays_[std::size_t(live_id)];
     const Ray a = rays_[std::size_t(dead_id)];
-    const double dx = std::cos(b.st.theta), dy = std::sin(b.st.theta);
+    const double dx = b.cos_t, dy = b.sin_t;
     const double nx = -dy, ny = dx;  // b's left
     const double mx = site.x - b.st.x, my = site.y - b.st.y;
     const double lateral = side * (mx * nx + my * ny);  // > 0: M is on the dead ray's side
     const double hit_lateral = side * ((a.hit_x - b.st.x) * nx + (a.hit_y - b.st.y) * ny);
     if (!(lateral > 0.0) || lateral > hit_lateral + site.radius + 1e-9) return false;
     if (!(side * (site.ux * nx + site.uy * ny) > 0.0)) return false;  // the wall runs towards the dead ray
-    if (mx * dx + my * dy > 0.0) return false;                          // b has not passed M yet
-    // The fan sweeps from b's direction towards the wall, through the shadow.
+    if (mx * dx + my * dy > 0.0) return false;                          // R1 has not passed M yet
+    // The fan sweeps from R1's direction towards the wall, through the shadow.
     const double theta_wall = std::atan2(site.uy, site.ux);
     double span = side * (theta_wall - b.st.theta);
-    span = span - two_pi * std::floor(span / two_pi);
+    span -= two_pi * std::floor(span / two_pi);
     if (!(span > 1e-6 && span < pi)) return false;
 
     Fan f;
     f.site = site;
-    f.wave_m = wave_at(medium_, site.x, site.y, b.w.kh);
+    f.wave_m = wave_at(medium_, site.x, site.y);
     const auto frame = make_breakwater_frame(Breakwater{site.x, site.y, site.ux, site.uy}, dx, dy, two_pi / f.wave_m.k);
     if (!frame.ok()) return false;
     f.frame = frame.value();
     f.theta0 = f.frame.theta0;
     f.v_scale = std::sqrt(4.0 * f.wave_m.k / pi);
-    const double along = mx * dx + my * dy;  // <= 0: M is behind b's wavefront position
+    f.d0x = std::cos(f.theta0) * f.frame.ux + std::sin(f.theta0) * f.frame.vx;
+    f.d0y = std::cos(f.theta0) * f.frame.uy + std::sin(f.theta0) * f.frame.vy;
+    const double along = mx * dx + my * dy;  // <= 0: M is behind R1's wavefront position
     f.phi_m = b.st.phi + b.w.k * along;
     f.tau_m = b.st.tau + along / b.w.cg;
     f.a_m = b.a_prev * std::sqrt(b.cg_prev / f.wave_m.cg);
@@ -618,7 +745,7 @@ class TrainTracer {
       const double psi = b.st.theta + side * span * double(i) / double(n);
       ids.push_back(trace_diffracted(fan_index, psi, j, -1.0, -1, -1));
     }
-    // Between the live ray and the dead one: the ray parallel to b next to b.
+    // Between the live ray and the dead one, the ray parallel to R1 next to R1.
     if (side < 0) std::reverse(ids.begin(), ids.end());
     pending_.push_back(Pending{pos, std::move(ids)});
     return true;
@@ -641,9 +768,8 @@ class TrainTracer {
       r.parent_b = pb;
       r.flags = ray_flag::diffracted;
       r.st = RayState{f.ox, f.oy, psi, f.phi_o, 0.0, f.tau_o};
-      r.w = wave_at(medium_, f.ox, f.oy, f.wave_m.kh);
-      r.a_geo = f.a_m * std::sqrt(f.wave_m.cg / r.w.cg);
-      r.cg_prev = r.w.cg;
+      r.sync_direction();
+      r.w = wave_at(medium_, f.ox, f.oy);
       r.fresh = true;
     }
     const double phi_j = grid_phase(j);
@@ -668,7 +794,7 @@ class TrainTracer {
     // eq. 7 cancels), ramped linearly in distance to the parents' mean when inserting.
     Ray& r = rays_[std::size_t(id)];
     const bool reached_j = alive && catch_.back().st.phi == phi_j;
-    const double d_end = std::hypot(catch_.back().st.x - f.site.x, catch_.back().st.y - f.site.y);
+    const double d_end = dist(catch_.back().st.x - f.ox, catch_.back().st.y - f.oy);
     const double a_end_shoaled = f.a_m * std::sqrt(f.wave_m.cg / catch_.back().w.cg);
     const double ramp = a_target >= 0.0 && reached_j && a_end_shoaled > 0.0 ? a_target / a_end_shoaled - 1.0 : 0.0;
     double a = f.a_m * std::sqrt(f.wave_m.cg / catch_.front().w.cg);
@@ -676,17 +802,19 @@ class TrainTracer {
     for (std::size_t i = 0; i < catch_.size(); ++i) {
       const CatchUp& c = catch_[i];
       if (i > 0) a *= std::sqrt(catch_[i - 1].w.cg / c.w.cg);
-      const double d = std::hypot(c.st.x - f.site.x, c.st.y - f.site.y);
+      const double d = dist(c.st.x - f.ox, c.st.y - f.oy);
       const double factor = 1.0 + ramp * (d_end > 0.0 ? std::min(d / d_end, 1.0) : 1.0);
       a *= factor / prev_factor;
       prev_factor = factor;
+      r.st = c.st;  // finalize() reads the ray's state at the sample
       r.w = c.w;
-      r.a_geo = std::min(a, set_.max_refraction_coefficient * train_.amplitude * shoaling_coefficient(c.w.kh));
+      r.a_geo = std::min(a, set_.max_refraction_coefficient * train_.amplitude * c.w.ks);
       write_sample(id, c.st, c.w, c.flags);
-      finalize(id, r.last_sample);
+      finalize(id);
       a = r.a_geo;  // breaking may have dissipated some
     }
     r.st = catch_.back().st;
+    r.sync_direction();
     r.w = catch_.back().w;
     r.a_prev = r.a_geo;
     r.cg_prev = r.w.cg;
@@ -713,27 +841,25 @@ class TrainTracer {
 
   void apply_insertions() {
     std::sort(pending_.begin(), pending_.end(), [](const Pending& a, const Pending& b) { return a.after < b.after; });
-    std::vector<std::int32_t> merged;
-    merged.reserve(order_.size() + 64);
+    merged_.clear();
     std::size_t p = 0;
     for (std::size_t i = 0; i < order_.size(); ++i) {
-      merged.push_back(order_[i]);
-      for (; p < pending_.size() && pending_[p].after == i; ++p) merged.insert(merged.end(), pending_[p].ids.begin(), pending_[p].ids.end());
+      merged_.push_back(order_[i]);
+      for (; p < pending_.size() && pending_[p].after == i; ++p) merged_.insert(merged_.end(), pending_[p].ids.begin(), pending_[p].ids.end());
     }
-    order_.swap(merged);
+    order_.swap(merged_);
     pending_.clear();
   }
 
+  // One pass over the wavefront: a ray between every sound live pair farther apart than b_max.
   bool insert_rays(std::int32_t j) {
     const double b_max = set_.insertion_distance;
     for (std::size_t i = 0; i + 1 < order_.size(); ++i) {
+      if (!pair_real_[i] || !(pair_sigma_[i] > b_max)) continue;  // not two live rays, or close enough
       const std::int32_t ia = order_[i], ib = order_[i + 1];
       const Ray& a = rays_[std::size_t(ia)];
       const Ray& b = rays_[std::size_t(ib)];
-      if (!live_on_step(a) || !live_on_step(b)) continue;
-      const double sigma = spacing(a, b);
-      if (!(sigma > b_max)) continue;
-      if (a.crossed_with == ib || (a.tube_next == ib && a.tube_crossed)) continue;
+      if (a.crossed_with == ib) continue;  // never between crossed rays (physics.md 2.4)
       if (rays_.size() >= set_.max_rays) {
         ++stats_.insertions_refused;
         truncated_ = true;
@@ -756,7 +882,8 @@ class TrainTracer {
     return true;
   }
 
-  // A ray between two live neighbours on the current wavefront (physics.md 2.4).
+  // A ray between two live neighbours on the current wavefront (physics.md 2.4): midpoint, bisecting
+  // direction, mean amplitude; flags only where both parents share them.
   std::int32_t insert_midpoint(std::int32_t ia, std::int32_t ib, std::int32_t j) {
     const std::int32_t id = std::int32_t(rays_.size());
     rays_.emplace_back();
@@ -767,16 +894,16 @@ class TrainTracer {
     r.parent_a = ia;
     r.parent_b = ib;
     r.family = a.family == b.family ? a.family : -1;
-    r.flags = std::uint8_t(a.flags & b.flags & (ray_flag::broken | ray_flag::diffracted));
-    if (r.family < 0) r.flags &= std::uint8_t(~ray_flag::diffracted);
+    r.flags = std::uint8_t(a.flags & b.flags & ray_flag::broken);
     const double x = 0.5 * (a.st.x + b.st.x), y = 0.5 * (a.st.y + b.st.y);
-    const double theta = std::atan2(std::sin(a.st.theta) + std::sin(b.st.theta), std::cos(a.st.theta) + std::cos(b.st.theta));
+    const double theta = std::atan2(a.sin_t + b.sin_t, a.cos_t + b.cos_t);
     r.st = RayState{x, y, theta, grid_phase(j), 0.5 * (a.st.s + b.st.s), 0.5 * (a.st.tau + b.st.tau)};
+    r.sync_direction();
     r.theta0 = theta;
     r.first_step = j;
     r.joined = true;
     r.fresh = true;
-    const bool in_wall = first_wall_hit(capsules_, x, y, x, y).hit;
+    const bool in_wall = !capsules_.empty() && first_wall_hit(capsules_, x, y, x, y).hit;
     if (in_wall || !(floor_.depth(x, y) > h_min_)) {
       // The parents straddle a wall or a spit of land: the new ray is a cut, with no samples.
       r.alive = false;
@@ -784,12 +911,12 @@ class TrainTracer {
       r.flags |= ray_flag::dead | (in_wall ? ray_flag::hit_wall : ray_flag::reached_shore);
       return id;
     }
-    r.w = wave_at(medium_, x, y, 0.5 * (a.w.kh + b.w.kh));
+    r.w = wave_at(medium_, x, y);
     r.a_geo = 0.5 * (a.a_geo + b.a_geo);
     r.a_prev = r.a_geo;
     r.cg_prev = r.w.cg;
     write_sample(id, r.st, r.w, 0);
-    finalize(id, rays_[std::size_t(id)].last_sample);
+    finalize(id);
     any_alive_ = true;
     return id;
   }
@@ -800,21 +927,20 @@ class TrainTracer {
     const std::size_t n = order_.size();
     for (std::size_t i = 0; i < n; ++i) {
       Ray& a = rays_[std::size_t(order_[i])];
-      const std::int32_t next = i + 1 < n ? order_[i + 1] : -1;
-      if (next < 0 || !live_on_step(a) || !live_on_step(rays_[std::size_t(next)])) {
+      const double sigma = i + 1 < n ? pair_sigma_[i] : std::numeric_limits<double>::quiet_NaN();
+      if (std::isnan(sigma)) {
         a.tube_next = -1;
         a.tube_crossed = false;
         continue;
       }
+      const std::int32_t next = order_[i + 1];
       const Ray& b = rays_[std::size_t(next)];
-      const double sigma = spacing(a, b);
       const bool crossed = a.crossed_with == next || sigma <= 0.0;
       a.tube_next = next;
       a.tube_sigma = sigma;
-      a.tube_b = crossed ? 0.0 : tube_width(a, b, sigma);
+      a.tube_b = crossed ? 0.0 : pair_width_[i];
       a.tube_crossed = crossed;
-      if (!crossed && a.last_sample < samples_.size() && samples_.ray[a.last_sample] == order_[i] &&
-          b.last_sample < samples_.size() && !(samples_.flags[a.last_sample] & sample_flag::off_grid) &&
+      if (!crossed && pair_real_[i] && !(samples_.flags[a.last_sample] & sample_flag::off_grid) &&
           !(samples_.flags[b.last_sample] & sample_flag::off_grid)) {
         samples_.flags[a.last_sample] |= sample_flag::tube_next;
       }
@@ -839,6 +965,7 @@ class TrainTracer {
     out.phase.resize(ns);
     out.time.resize(ns);
     out.sample_flags.resize(ns);
+    std::vector<double> a_break(ns), k_exact(ns);
     std::vector<std::uint32_t> cursor(out.sample_begin.begin(), out.sample_begin.end() - 1);
     for (std::size_t s = 0; s < ns; ++s) {
       const std::size_t d = cursor[std::size_t(rank[std::size_t(samples_.ray[s])])]++;
@@ -850,6 +977,8 @@ class TrainTracer {
       out.phase[d] = samples_.phase[s];
       out.time[d] = samples_.time[s];
       out.sample_flags[d] = samples_.flags[s];
+      a_break[d] = samples_.a_break[s];
+      k_exact[d] = samples_.k_exact[s];
     }
     out.first_step.resize(nr);
     out.flags.resize(nr);
@@ -863,6 +992,7 @@ class TrainTracer {
       out.parent_a[i] = r.parent_a >= 0 ? rank[std::size_t(r.parent_a)] : -1;
       out.parent_b[i] = r.parent_b >= 0 ? rank[std::size_t(r.parent_b)] : -1;
       out.pierhead[i] = r.family;
+      apply_diffraction(out, a_break, k_exact, r.family, out.sample_begin[i], out.sample_begin[i + 1]);
     }
     for (const Fan& f : fans_) {
       out.pierheads.push_back(WaveRays::Pierhead{f.site.x, f.site.y, f.ox, f.oy, f.site.wall, f.phi_m, f.a_m, f.wave_m.k});
@@ -870,6 +1000,51 @@ class TrainTracer {
     stats_.truncated = stats_.truncated || truncated_;
     stats = stats_;
     return std::move(out);
+  }
+
+  // K' for one ray's samples that carry a diffraction coefficient (they hold a_geo): exact at the
+  // knots the sweep left (and at both ends of each run of such samples), linear in path length in
+  // between; then the breaking cap once more, so H <= gamma_b h holds whatever the interpolation did.
+  void apply_diffraction(WaveRays& out, const std::vector<double>& a_break, std::vector<double>& k_exact,
+                         std::int32_t family, std::size_t begin, std::size_t end) {
+    std::size_t i = begin;
+    while (i < end) {
+      if (!(out.sample_flags[i] & sample_flag::diffraction)) {
+        ++i;
+        continue;
+      }
+      std::size_t run_end = i;
+      while (run_end < end && (out.sample_flags[run_end] & sample_flag::diffraction)) ++run_end;
+      for (std::size_t e : {i, run_end - 1}) {
+        if (std::isnan(k_exact[e])) k_exact[e] = k_factor(family, out.x[e], out.y[e], out.phase[e]);
+      }
+      std::size_t last = i;
+      double path = 0.0, path_last = 0.0;
+      for (std::size_t t = i + 1; t < run_end; ++t) {
+        path += dist(out.x[t] - out.x[t - 1], out.y[t] - out.y[t - 1]);
+        if (std::isnan(k_exact[t])) continue;
+        // Knot t: interpolate the samples since the previous knot.
+        double p = path_last;
+        for (std::size_t q = last + 1; q < t; ++q) {
+          p += dist(out.x[q] - out.x[q - 1], out.y[q] - out.y[q - 1]);
+          const double u = path > path_last ? (p - path_last) / (path - path_last) : 1.0;
+          k_exact[q] = k_exact[last] + u * (k_exact[t] - k_exact[last]);
+        }
+        last = t;
+        path_last = path;
+      }
+      for (std::size_t t = i; t < run_end; ++t) out.amplitude[t] = std::min(out.amplitude[t] * k_exact[t], a_break[t]);
+      i = run_end;
+    }
+  }
+
+  double distance_to_pierhead(std::int32_t family, double x, double y) const noexcept {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t f = 0; f < fans_.size(); ++f) {
+      if (family >= 0 && std::int32_t(f) != family) continue;
+      best = std::min(best, dist(x - fans_[f].site.x, y - fans_[f].site.y));
+    }
+    return best;
   }
 
   struct CatchUp {
@@ -890,9 +1065,12 @@ class TrainTracer {
   std::vector<bool> site_used_;
   std::vector<Fan> fans_;
   std::vector<Ray> rays_;
-  std::vector<std::int32_t> order_;
+  std::vector<std::int32_t> order_, merged_;
   std::vector<Pending> pending_;
   std::vector<CatchUp> catch_;
+  std::int32_t step_ = 0;  // the wavefront being processed
+  std::vector<double> pair_sigma_, pair_width_;
+  std::vector<std::uint8_t> pair_real_;
   std::vector<std::uint8_t> pair_ok_, pair_crossed_;
   std::vector<double> pair_b_prev_, pair_b_now_;
   SampleStore samples_;
@@ -962,7 +1140,7 @@ DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& set
   const detail::Front f = detail::make_front(scene, train, settings, m);
   if (!(f.dphi > 0.0)) return DwtBound{f.entries.size(), 0};
   // Every ray ends within the path limit; each step takes at least dphi / k(h_min) of path.
-  const double steps = detail::path_limit(scene.domain) * detail::wave_from_depth(m, h_min, 0.0).k / f.dphi + 4.0;
+  const double steps = detail::path_limit(scene.domain) * detail::wave_from_depth(m, h_min).k / f.dphi + 4.0;
   const double worst = double(settings.max_rays) * steps;
   b.samples = std::size_t(std::min(double(settings.max_samples), worst));
   return b;
@@ -977,7 +1155,7 @@ Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtS
   DwtStats local;
   DwtStats& st = stats ? *stats : local;
   st = DwtStats{};
-  if (!train_needs_rays(scene, train)) {
+  if (settings.analytic_shortcut && !train_needs_rays(scene, train)) {
     // Effect plan: straight crests, analytic phase, no rays.
     WaveRays out;
     const WaveTrain& t = scene.trains[train];

@@ -10,6 +10,7 @@
 
 #include "houle/kernel/isa.hpp"
 #include "houle/sim/dispersion.hpp"
+#include "dispersion_table.hpp"  // sim/src: the ray tracer's tabulated kh
 #include "ulp.hpp"
 
 namespace {
@@ -53,6 +54,19 @@ TEST(Dispersion, ResidualBelow1e12OverWholeRange) {
   }
   EXPECT_LT(worst, 1e-12);
   std::printf("solve_kh relative residual, y in [1e-8, 1e4]: max %.2e\n", worst);
+}
+
+TEST(Dispersion, TracerTableMatchesTheSolver) {
+  // The ray tracer's kh(k0h) table (cubic Hermite in sqrt(k0h)): stated tolerance 1e-12 relative.
+  double worst = 0.0;
+  for (double y : log_space(1e-10, 1e4, 200001)) {
+    worst = std::max(worst, std::fabs(houle::detail::kh_from_table(y) / houle::solve_kh(y) - 1.0));
+  }
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_EQ(houle::detail::kh_from_table(0.0), 0.0);
+  EXPECT_EQ(houle::detail::kh_from_table(-1.0), 0.0);
+  EXPECT_EQ(houle::detail::kh_from_table(std::numeric_limits<double>::quiet_NaN()), 0.0);
+  std::printf("kh table vs solver, k0h in [1e-10, 1e4]: max rel err %.2e\n", worst);
 }
 
 TEST(Dispersion, WarmStartGivesTheSameRoot) {
@@ -211,11 +225,10 @@ TEST(Dispersion, FloatBatchAccuracyAgainstDouble) {
   }
 }
 
-// Stated tolerance of every SIMD path against the scalar path: the kernel uses only + - * / sqrt
-// (correctly rounded on x86-64 and, through simd::div/sqrt, on AArch64), min/max and selects, without
-// contraction: identical bits. ARMv7 NEON divides and takes roots by estimate plus Newton steps; the
-// solver's own Newton iterations absorb most of it.
-std::int64_t simd_ulp_tolerance(houle::Isa isa) { return isa == houle::Isa::neon ? 64 : 0; }
+// Stated tolerance of every SIMD path against the scalar path: the kernel uses only + - * and the
+// correctly rounded simd::div / simd::sqrt, min/max and selects, without contraction: every ISA gives
+// the scalar bits, tolerance 0.
+std::int64_t simd_ulp_tolerance(houle::Isa) { return 0; }
 
 TEST(Dispersion, EveryIsaMatchesScalarIncludingTails) {
   std::mt19937 rng(1234);

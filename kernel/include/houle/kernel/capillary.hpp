@@ -42,12 +42,12 @@ struct CapillaryFrame {
   static constexpr int period = 256;  ///< lattice period in cells, per octave
   CapillaryParams params{};           ///< as validated (for the bound helpers)
   std::uint32_t octaves = 0;          ///< n_max
-  float coord_limit = 0.0f;           ///< m: |x|, |y| are clamped to it so lattice coordinates stay exact in float
+  float coord_limit = 0.0f;           ///< m: |x|, |y| are clamped to it (lattice coordinates < 2^21: exact floor)
   alignas(32) float mxu[max_octaves] = {};
   alignas(32) float myu[max_octaves] = {};
   alignas(32) float mxv[max_octaves] = {};
   alignas(32) float myv[max_octaves] = {};
-  alignas(32) float off_u[max_octaves] = {};  ///< lattice units, [0, period)
+  alignas(32) float off_u[max_octaves] = {};  ///< lattice units, [0, period] (period itself only by rounding)
   alignas(32) float off_v[max_octaves] = {};
   alignas(32) float value_scale[max_octaves] = {};  ///< a_i / 508 (the kernel sums 2w * 2w * q with |q| <= 127)
 };

@@ -22,6 +22,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 
 #include "houle/kernel/camera.hpp"
 #include "houle/kernel/capillary.hpp"
@@ -96,11 +97,32 @@ void march_camera_row(Isa isa, const SurfaceFrame& frame, const Camera& camera, 
                       std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x, float sub_y,
                       const MarchHits& hits) noexcept;
 
-/// The marcher's f for one ray at distance t, computed by the scalar reference exactly as the
-/// marcher does (LOD blend, noise at the level for t): for dense references in tests and tools.
-float march_f(const SurfaceFrame& frame, const MarchParams& params, float ox, float oy, float oz, float dx, float dy,
-              float dz, float t) noexcept;
-/// The capillary octave level the marcher uses at distance t on a ray with vertical component dz.
-float march_noise_level(const MarchParams& params, float dz, float t) noexcept;
+namespace detail {
+struct MarchContext;
+}
+
+/// The marcher's surface for one frame and parameters, evaluated one point at a time by the scalar
+/// reference exactly as the marcher does (LOD blend, noise at the level for t): for dense references
+/// in tests and for tools. Construction allocates (it is not frame-loop code).
+class MarchProbe {
+ public:
+  MarchProbe(const SurfaceFrame& frame, const MarchParams& params);
+  ~MarchProbe();
+  MarchProbe(const MarchProbe&) = delete;
+  MarchProbe& operator=(const MarchProbe&) = delete;
+
+  /// f(t) = o_z + t d_z - S(o_xy + t d_xy) for the ray (o, d).
+  float f(float ox, float oy, float oz, float dx, float dy, float dz, float t) const noexcept;
+  /// The noise level the marcher uses at distance t on a ray with vertical component dz (0 without noise).
+  float noise_level(float dz, float t) const noexcept;
+  /// The grid part of S at (x, y) (SurfaceFrame::height_at).
+  float grid_height(float x, float y) const noexcept;
+  /// The slab [z_lo, z_hi] rays are clipped to (grid slab widened by the noise bound).
+  float slab_min() const noexcept;
+  float slab_max() const noexcept;
+
+ private:
+  std::unique_ptr<detail::MarchContext> c_;
+};
 
 }  // namespace houle

@@ -32,6 +32,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "houle/kernel/camera.hpp"
 #include "houle/kernel/expected.hpp"
 #include "houle/kernel/gerstner.hpp"
 #include "houle/kernel/isa.hpp"
@@ -54,7 +55,8 @@ struct SurfaceLevel {
   float reach = 0.0f;  ///< m, Chebyshev radius about the centre up to which this level (or a finer one) is sampled
 };
 
-/// Bounds of one tile, valid for H over the part of the tile within its level's reach.
+/// Bounds of one tile, valid for H over the part of the tile within its level's reach (for a frame
+/// restricted to a view: over the part the view's rays can reach).
 struct TileBounds {
   float h_min = 0.0f, h_max = 0.0f;   ///< m
   float slope_x = 0.0f, slope_y = 0.0f;  ///< bounds of |dH/dx| and |dH/dy| (m/m)
@@ -100,9 +102,17 @@ class SurfaceFrame {
 
   const SurfaceFrameConfig& config() const noexcept { return config_; }
 
-  /// Starts a frame centred on the ground point (centre_x, centre_y) m: places the levels. Node
-  /// values and bounds are undefined until filled and finished.
+  /// Starts a frame centred on the ground point (centre_x, centre_y) m: places the levels and marks
+  /// for filling every tile that can be sampled (each level's annulus). Node values and bounds are
+  /// undefined until filled and finished.
   void begin_frame(float centre_x, float centre_y) noexcept;
+  /// Optional, after begin_frame: fill only the tiles that rays from the camera position through its
+  /// image can sample (the frustum's horizontal wedge, plus a cell), typically a quarter of them. The
+  /// frame is then valid for those rays only: rays from elsewhere or leaving the wedge read stale
+  /// heights (and conservative bounds, so nothing breaks). Does nothing when the frustum holds the vertical.
+  void restrict_to_view(const Camera& camera) noexcept;
+  /// Whether the current fill covers tile (tile_x, tile_y) of level l.
+  bool tile_filled(std::uint32_t l, std::uint32_t tile_x, std::uint32_t tile_y) const noexcept;
   const SurfaceLevel& level(std::uint32_t l) const noexcept { return levels_[l]; }
   /// Floats between node rows of the arrays below.
   std::size_t stride() const noexcept { return stride_; }
@@ -156,6 +166,7 @@ class SurfaceFrame {
   float* tile_max_ = nullptr;
   float* tile_sx_ = nullptr;
   float* tile_sy_ = nullptr;
+  std::uint8_t* needed_ = nullptr;  ///< per tile: filled this frame
   float* row_x_ = nullptr;  ///< fill scratch: node x coordinates of a row
   float* row_y_ = nullptr;  ///< fill scratch: the row's y, repeated
   std::array<SurfaceLevel, max_levels> levels_{};

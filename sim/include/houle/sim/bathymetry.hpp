@@ -11,6 +11,7 @@
 // <= 0.28125); that moves the shoreline inside one cell, never lets a negative depth through as water.
 #pragma once
 #include <limits>
+#include <vector>
 
 #include "houle/sim/scene.hpp"
 
@@ -46,8 +47,10 @@ class Bathymetry {
   SeaFloor floor_;
   bool uniform_ = true;
   double length_scale_ = std::numeric_limits<double>::infinity();
-  // Precomputed: shoreward unit vector and the plateau blend half-width (m of depth).
+  // Precomputed: shoreward unit vector and the plateau blend half-width (m of depth); each shoal's
+  // axis and each bar's normal as unit vectors (cos, sin).
   double shore_x_ = 0.0, shore_y_ = 1.0, blend_ = 0.0;
+  std::vector<double> shoal_axis_, bar_normal_;
 };
 
 }  // namespace houle

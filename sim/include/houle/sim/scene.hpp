@@ -175,7 +175,7 @@ struct Water {
 
 /// Accuracy knobs of the ray tracer (wave_rays.hpp). Defaults are the paper's (Fig. 4).
 struct DwtSettings {
-  /// Initial rays per train across the front; 0: front width / insertion distance, rounded up.
+  /// Initial rays per train across the front; 0: enough to space them below the insertion distance.
   std::uint32_t initial_rays = 0;
   /// m across the crests covered by the initial rays, centred on the domain; 0: the whole domain.
   double front_width = 0.0;
@@ -192,6 +192,9 @@ struct DwtSettings {
   double breaker_index = 0.78;
   /// Cap of the refraction coefficient Kr at caustics (physics.md 2.5).
   double max_refraction_coefficient = 2.5;
+  /// Effect plan: trains that need no rays (train_needs_rays) get an analytic description instead.
+  /// false traces them anyway (tests, benchmarks).
+  bool analytic_shortcut = true;
   /// Diffraction at pierheads: behind each one a fan of DIFFRACTED rays carries K' of this model.
   bool diffraction = true;
   DiffractionModel diffraction_model = DiffractionModel::exact;

@@ -60,14 +60,17 @@ namespace sample_flag {
 inline constexpr std::uint8_t broken = 1u << 0;     ///< amplitude limited by breaking here
 inline constexpr std::uint8_t crossed = 1u << 1;    ///< a tube of this ray has crossed (at or before here)
 inline constexpr std::uint8_t off_grid = 1u << 2;   ///< not on the phase grid: a ray's start or end point
-inline constexpr std::uint8_t tube_next = 1u << 3;  ///< the next ray (r + 1) has a sample on the same step
-                                                    ///< and the tube between them is sound: a quad may join them
+inline constexpr std::uint8_t tube_next = 1u << 3;  ///< a sound tube joins this sample to the next ray in
+                                                    ///< order with a sample on the same step (next_on_step):
+                                                    ///< a quad may join them
 inline constexpr std::uint8_t diffraction = 1u << 4;  ///< a diffraction coefficient was applied
 }  // namespace sample_flag
 
 /// One train's rays. Rays are ordered across the front, r + 1 lying to the left of r (counter-
-/// clockwise from the direction of travel); neighbours on a step are r and r + 1 where the
-/// tube_next flag says so (a dead ray between two live ones is a cut: nothing joins across it).
+/// clockwise from the direction of travel). A ray inserted at step j sits between its parents, so on
+/// an earlier step the neighbour of r is the next ray in order that has a sample there
+/// (next_on_step); a tube_next flag says the two are joined by a sound tube (never across a ray
+/// that has ended there, nor across a crossing).
 /// Samples of ray r are [sample_begin[r], sample_begin[r + 1]); on-grid samples are on step
 /// first_step[r], first_step[r] + 1, ... in order (an off-grid first sample comes before them, an
 /// off-grid last sample after them), and sample s on step j has phase exactly phase0 + j * phase_step.
@@ -114,6 +117,22 @@ struct WaveRays {
 
   std::size_t ray_count() const noexcept { return flags.size(); }
   std::size_t sample_count() const noexcept { return x.size(); }
+  /// Index of ray r's on-grid sample on `step`, or -1 if it has none there.
+  std::int64_t sample_at_step(std::size_t r, std::int64_t step) const noexcept {
+    const std::size_t begin = sample_begin[r], end = sample_begin[r + 1];
+    if (begin == end) return -1;
+    const std::size_t head = (sample_flags[begin] & sample_flag::off_grid) ? 1 : 0;
+    const std::int64_t i = std::int64_t(begin + head) + (step - first_step[r]);
+    if (step < first_step[r] || i >= std::int64_t(end) || (sample_flags[std::size_t(i)] & sample_flag::off_grid)) return -1;
+    return i;
+  }
+  /// The first ray after r in order with an on-grid sample on `step`, or -1.
+  std::int64_t next_on_step(std::size_t r, std::int64_t step) const noexcept {
+    for (std::size_t q = r + 1; q < ray_count(); ++q) {
+      if (sample_at_step(q, step) >= 0) return std::int64_t(q);
+    }
+    return -1;
+  }
 };
 
 /// What tracing did: tests prove skipped work is zero; `houle info` reports it.

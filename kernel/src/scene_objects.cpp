@@ -1,0 +1,313 @@
+#include "scene_objects.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace houle::detail {
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+/// No query walks further than this (m) or more blocks than this: a guard for rays that graze a level
+/// floor for ever, not a limit any real view reaches.
+constexpr double max_walk_distance = 1e7;
+constexpr std::int64_t max_block_steps = std::int64_t(1) << 18;
+constexpr std::int64_t max_cell_steps = 4 * SceneObjects::block_cells + 8;
+
+bool finite3(const std::array<float, 3>& v) {
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+bool reflectance_ok(LinearRgb c) {
+  const auto ok = [](float x) { return x >= 0.0f && x <= 1.0f; };  // false for NaN
+  return ok(c.r) && ok(c.g) && ok(c.b);
+}
+
+/// Amanatides-Woo walk over the square cells of size `size` whose corner (0, 0) is (gx, gy), from t0 to
+/// t1 along the ray's xy projection: visit(i, j, t_enter, t_exit) for each cell in order of t until it
+/// returns true (then true) or t1 is passed (false). Cells are unbounded integers: callers clamp.
+template <class Visit>
+bool walk_cells(double gx, double gy, double size, const SceneRay& r, double t0, double t1, std::int64_t max_steps,
+                Visit&& visit) {
+  const double px = r.ox + t0 * r.dx - gx, py = r.oy + t0 * r.dy - gy;
+  constexpr double index_limit = 4.0e15;  // keeps the integer conversion defined for absurd inputs
+  std::int64_t i = std::int64_t(std::clamp(std::floor(px / size), -index_limit, index_limit));
+  std::int64_t j = std::int64_t(std::clamp(std::floor(py / size), -index_limit, index_limit));
+  const std::int64_t si = r.dx > 0.0 ? 1 : -1, sj = r.dy > 0.0 ? 1 : -1;
+  const double step_x = r.dx != 0.0 ? size / std::abs(r.dx) : inf;
+  const double step_y = r.dy != 0.0 ? size / std::abs(r.dy) : inf;
+  double next_x = r.dx > 0.0   ? t0 + (double(i + 1) * size - px) / r.dx
+                  : r.dx < 0.0 ? t0 + (double(i) * size - px) / r.dx
+                               : inf;
+  double next_y = r.dy > 0.0   ? t0 + (double(j + 1) * size - py) / r.dy
+                  : r.dy < 0.0 ? t0 + (double(j) * size - py) / r.dy
+                               : inf;
+  double t = t0;
+  for (std::int64_t n = 0; n < max_steps; ++n) {
+    const double t_exit = std::min(std::min(next_x, next_y), t1);
+    if (visit(i, j, t, std::max(t_exit, t))) return true;
+    if (t_exit >= t1) return false;
+    if (next_x <= next_y) {
+      i += si;
+      t = next_x;
+      next_x += step_x;
+    } else {
+      j += sj;
+      t = next_y;
+      next_y += step_y;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
+  SceneObjects s;
+  for (std::size_t k = 0; k < scene.boxes.size(); ++k) {
+    const RenderBox& b = scene.boxes[k];
+    const std::string field = "boxes[" + std::to_string(k) + "]";
+    if (!finite3(b.center)) return Error{field + ".center", "three finite coordinates in m"};
+    if (!finite3(b.half_extent) || !(b.half_extent[0] > 0.0f && b.half_extent[1] > 0.0f && b.half_extent[2] > 0.0f)) {
+      return Error{field + ".half_extent", "three finite lengths > 0 in m"};
+    }
+    if (!std::isfinite(b.yaw_rad)) return Error{field + ".yaw_rad", "a finite angle in rad"};
+    if (!reflectance_ok(b.colour)) return Error{field + ".colour", "a diffuse reflectance, each channel in [0, 1]"};
+    s.boxes_.push_back({b.center[0], b.center[1], b.center[2], b.half_extent[0], b.half_extent[1], b.half_extent[2],
+                        std::cos(double(b.yaw_rad)), std::sin(double(b.yaw_rad)), b.colour});
+  }
+  for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+    const RenderSphere& sp = scene.spheres[k];
+    const std::string field = "spheres[" + std::to_string(k) + "]";
+    if (!finite3(sp.center)) return Error{field + ".center", "three finite coordinates in m"};
+    if (!(std::isfinite(sp.radius) && sp.radius > 0.0f)) return Error{field + ".radius", "a finite length > 0 in m"};
+    if (!reflectance_ok(sp.colour)) return Error{field + ".colour", "a diffuse reflectance, each channel in [0, 1]"};
+    s.spheres_.push_back({sp.center[0], sp.center[1], sp.center[2], sp.radius, sp.colour});
+  }
+
+  const FloorGrid& f = scene.floor;
+  if (!reflectance_ok(f.sand)) return Error{"floor.sand", "a diffuse reflectance, each channel in [0, 1]"};
+  s.sand_ = f.sand;
+  if (f.nx == 0 && f.ny == 0) {
+    if (!f.z.empty()) return Error{"floor.z", "no samples when nx = ny = 0 (no floor)"};
+    return s;
+  }
+  constexpr std::uint32_t max_side = 1u << 16;
+  if (f.nx == 0 || f.ny == 0 || f.nx > max_side || f.ny > max_side) {
+    return Error{"floor.nx", "nx and ny both in [1, 65536], or both 0 for no floor"};
+  }
+  if (!(std::isfinite(f.cell) && f.cell > 0.0f)) return Error{"floor.cell", "a finite cell size > 0 in m"};
+  if (!std::isfinite(f.origin_x) || !std::isfinite(f.origin_y)) return Error{"floor.origin", "finite coordinates in m"};
+  if (f.z.size() != std::size_t(f.nx) * f.ny) return Error{"floor.z", "nx * ny heights"};
+  for (float z : f.z) {
+    if (!std::isfinite(z)) return Error{"floor.z", "finite heights in m"};
+  }
+  s.origin_x_ = f.origin_x;
+  s.origin_y_ = f.origin_y;
+  s.cell_ = f.cell;
+  s.nx_ = f.nx;
+  s.ny_ = f.ny;
+  s.z_ = f.z;
+  const auto [lo, hi] = std::minmax_element(f.z.begin(), f.z.end());
+  s.z_min_ = *lo;
+  s.z_max_ = *hi;
+  // Blocks of block_cells cells; block (bi, bj) bounds samples bi B .. bi B + B (clamped), so a cell's
+  // four corners always lie in its block, and the clamped block of a cell beyond the grid bounds the
+  // edge samples that cell repeats.
+  constexpr std::int64_t B = block_cells;
+  s.bx_ = std::max<std::int64_t>(1, (s.nx_ - 1 + B - 1) / B);
+  s.by_ = std::max<std::int64_t>(1, (s.ny_ - 1 + B - 1) / B);
+  s.block_min_.assign(std::size_t(s.bx_ * s.by_), 0.0f);
+  s.block_max_.assign(std::size_t(s.bx_ * s.by_), 0.0f);
+  for (std::int64_t bj = 0; bj < s.by_; ++bj) {
+    for (std::int64_t bi = 0; bi < s.bx_; ++bi) {
+      float mn = std::numeric_limits<float>::infinity(), mx = -mn;
+      for (std::int64_t j = bj * B; j <= std::min(bj * B + B, s.ny_ - 1); ++j) {
+        for (std::int64_t i = bi * B; i <= std::min(bi * B + B, s.nx_ - 1); ++i) {
+          const float z = s.z_[std::size_t(j * s.nx_ + i)];
+          mn = std::min(mn, z);
+          mx = std::max(mx, z);
+        }
+      }
+      s.block_min_[std::size_t(bj * s.bx_ + bi)] = mn;
+      s.block_max_[std::size_t(bj * s.bx_ + bi)] = mx;
+    }
+  }
+  return s;
+}
+
+float SceneObjects::sample(std::int64_t i, std::int64_t j) const noexcept {
+  i = std::clamp<std::int64_t>(i, 0, nx_ - 1);
+  j = std::clamp<std::int64_t>(j, 0, ny_ - 1);
+  return z_[std::size_t(j * nx_ + i)];
+}
+
+double SceneObjects::floor_height(double x, double y) const noexcept {
+  if (nx_ == 0) return -inf;
+  const double fx = (x - origin_x_) / cell_, fy = (y - origin_y_) / cell_;
+  if (!std::isfinite(fx) || !std::isfinite(fy)) return z_min_;
+  const double cx = std::clamp(fx, -1.0, double(nx_)), cy = std::clamp(fy, -1.0, double(ny_));
+  const double fi = std::floor(cx), fj = std::floor(cy);
+  const double u = cx - fi, v = cy - fj;
+  const auto i = std::int64_t(fi), j = std::int64_t(fj);
+  const double h00 = sample(i, j), h10 = sample(i + 1, j), h01 = sample(i, j + 1), h11 = sample(i + 1, j + 1);
+  return h00 + (h10 - h00) * u + (h01 - h00) * v + (h00 - h10 - h01 + h11) * u * v;
+}
+
+double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, double z_lo,
+                               std::array<float, 3>* normal) const noexcept {
+  if (nx_ == 0) return t_max;
+  // Only where the ray is inside the floor's height range (and above z_lo) can it meet the floor.
+  const double lo = std::max(z_min_, z_lo), hi = z_max_;
+  if (!(lo <= hi)) return t_max;
+  double t0 = t_min, t1 = std::min(t_max, max_walk_distance);
+  if (r.dz > 0.0) {
+    t0 = std::max(t0, (lo - r.oz) / r.dz);
+    t1 = std::min(t1, (hi - r.oz) / r.dz);
+  } else if (r.dz < 0.0) {
+    t0 = std::max(t0, (hi - r.oz) / r.dz);
+    t1 = std::min(t1, (lo - r.oz) / r.dz);
+  } else if (r.oz < lo || r.oz > hi) {
+    return t_max;
+  }
+  if (!(t0 <= t1)) return t_max;
+
+  double t_hit = t_max;
+  const double cell = cell_;
+  const auto visit_cell = [&](std::int64_t i, std::int64_t j, double ta, double tb) -> bool {
+    const double h00 = sample(i, j), h10 = sample(i + 1, j), h01 = sample(i, j + 1), h11 = sample(i + 1, j + 1);
+    const double za = r.oz + ta * r.dz, zb = r.oz + tb * r.dz;
+    if (std::min(za, zb) > std::max(std::max(h00, h10), std::max(h01, h11))) return false;
+    // Along the ray, s = t - ta: u = u0 + du s, v = v0 + dv s in cell units, and the bilinear
+    // h = h00 + e u + f v + g u v becomes A + B s + C s^2; solve z(s) - h(s) = 0.
+    const double u0 = (r.ox + ta * r.dx - (origin_x_ + double(i) * cell)) / cell;
+    const double v0 = (r.oy + ta * r.dy - (origin_y_ + double(j) * cell)) / cell;
+    const double du = r.dx / cell, dv = r.dy / cell;
+    const double e = h10 - h00, f = h01 - h00, g = h00 - h10 - h01 + h11;
+    const double a = h00 + e * u0 + f * v0 + g * u0 * v0;
+    const double b = e * du + f * dv + g * (u0 * dv + v0 * du);
+    const double c = g * du * dv;
+    const double a0 = za - a;  // height above the ground at the entry
+    const double s_end = tb - ta;
+    double s = inf;
+    if (a0 <= 0.0) {
+      s = 0.0;  // at or under the ground on entering (a ray starting inside it, or rounding at an edge)
+    } else {
+      // c s^2 + qb s + qc = 0 with qb = -(dz - b), qc = -a0 (< 0); the stable pair of roots.
+      const double qb = b - r.dz, qc = -a0;
+      const double disc = qb * qb - 4.0 * c * qc;
+      if (disc >= 0.0) {
+        const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+        const double r1 = q != 0.0 ? qc / q : inf, r2 = c != 0.0 ? q / c : inf;
+        for (double root : {r1, r2}) {
+          if (root >= 0.0 && root <= s_end && root < s) s = root;
+        }
+      }
+    }
+    if (!(s <= s_end)) return false;
+    t_hit = ta + s;
+    if (normal != nullptr) {
+      const double u = std::clamp(u0 + du * s, 0.0, 1.0), v = std::clamp(v0 + dv * s, 0.0, 1.0);
+      const double gx = (e + g * v) / cell, gy = (f + g * u) / cell;
+      const double inv = 1.0 / std::sqrt(gx * gx + gy * gy + 1.0);
+      *normal = {float(-gx * inv), float(-gy * inv), float(inv)};
+    }
+    return true;
+  };
+  const double block = cell * block_cells;
+  const auto visit_block = [&](std::int64_t bi, std::int64_t bj, double ta, double tb) -> bool {
+    const std::size_t k = std::size_t(std::clamp<std::int64_t>(bj, 0, by_ - 1) * bx_ + std::clamp<std::int64_t>(bi, 0, bx_ - 1));
+    const double za = r.oz + ta * r.dz, zb = r.oz + tb * r.dz;
+    if (std::min(za, zb) > double(block_max_[k])) return false;  // passes above the whole block
+    return walk_cells(origin_x_, origin_y_, cell, r, ta, tb, max_cell_steps, visit_cell);
+  };
+  // Cells are visited in order of t, so the first hit is the nearest: shadow rays stop there too.
+  walk_cells(origin_x_, origin_y_, block, r, t0, t1, max_block_steps, visit_block);
+  return t_hit;
+}
+
+SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_max) const noexcept {
+  SurfaceHit hit;
+  double best = t_max;
+  for (std::size_t k = 0; k < boxes_.size(); ++k) {
+    const Box& b = boxes_[k];
+    // Into the box's frame: local x along (cos, sin), y along (-sin, cos).
+    const double px = r.ox - b.cx, py = r.oy - b.cy;
+    const double l[3] = {b.cos_yaw * px + b.sin_yaw * py, -b.sin_yaw * px + b.cos_yaw * py, r.oz - b.cz};
+    const double d[3] = {b.cos_yaw * r.dx + b.sin_yaw * r.dy, -b.sin_yaw * r.dx + b.cos_yaw * r.dy, r.dz};
+    const double h[3] = {b.hx, b.hy, b.hz};
+    double t_near = -inf, t_far = inf;
+    int axis_near = 0, axis_far = 0;
+    bool miss = false;
+    for (int a = 0; a < 3 && !miss; ++a) {
+      if (d[a] == 0.0) {
+        miss = std::abs(l[a]) > h[a];
+        continue;
+      }
+      double t1 = (-h[a] - l[a]) / d[a], t2 = (h[a] - l[a]) / d[a];
+      if (t1 > t2) std::swap(t1, t2);
+      if (t1 > t_near) t_near = t1, axis_near = a;
+      if (t2 < t_far) t_far = t2, axis_far = a;
+    }
+    if (miss || t_near > t_far) continue;
+    // From outside the near face; from inside (a camera in a box) the far face.
+    const bool outside = t_near >= t_min;
+    const double t = outside ? t_near : t_far;
+    if (!(t >= t_min && t < best)) continue;
+    const int axis = outside ? axis_near : axis_far;
+    const double sign = (d[axis] > 0.0) == outside ? -1.0 : 1.0;
+    std::array<double, 3> n{0.0, 0.0, 0.0};
+    if (axis == 0) n = {b.cos_yaw * sign, b.sin_yaw * sign, 0.0};
+    if (axis == 1) n = {-b.sin_yaw * sign, b.cos_yaw * sign, 0.0};
+    if (axis == 2) n = {0.0, 0.0, sign};
+    best = t;
+    hit = {float(t), HitKind::box, std::uint32_t(k), {float(n[0]), float(n[1]), float(n[2])}};
+  }
+  for (std::size_t k = 0; k < spheres_.size(); ++k) {
+    const Sphere& sp = spheres_[k];
+    const double px = r.ox - sp.cx, py = r.oy - sp.cy, pz = r.oz - sp.cz;
+    const double b = px * r.dx + py * r.dy + pz * r.dz;
+    const double c = px * px + py * py + pz * pz - sp.radius * sp.radius;
+    const double disc = b * b - c;
+    if (!(disc >= 0.0)) continue;
+    const double q = std::sqrt(disc);
+    double t = -b - q;
+    if (t < t_min) t = -b + q;
+    if (!(t >= t_min && t < best)) continue;
+    const double inv = 1.0 / sp.radius;
+    best = t;
+    hit = {float(t), HitKind::sphere, std::uint32_t(k),
+           {float((px + t * r.dx) * inv), float((py + t * r.dy) * inv), float((pz + t * r.dz) * inv)}};
+  }
+  return hit;
+}
+
+SurfaceHit SceneObjects::intersect(const SceneRay& r, double t_min, double t_max, double floor_z_lo) const noexcept {
+  SurfaceHit hit = hit_objects(r, t_min, t_max);
+  const double best = hit.kind == HitKind::none ? t_max : double(hit.t);
+  std::array<float, 3> n{};
+  const double tf = floor_hit(r, t_min, best, floor_z_lo, &n);
+  if (tf < best) hit = {float(tf), HitKind::floor, 0, n};
+  return hit;
+}
+
+bool SceneObjects::occluded(const SceneRay& r, double t_min, double t_max) const noexcept {
+  // The objects are few and cheap next to the floor walk: test them first.
+  if (hit_objects(r, t_min, t_max).kind != HitKind::none) return true;
+  return floor_hit(r, t_min, t_max, -inf, nullptr) < t_max;
+}
+
+LinearRgb SceneObjects::albedo(const SurfaceHit& hit) const noexcept {
+  switch (hit.kind) {
+    case HitKind::box:
+      return boxes_[hit.index].colour;
+    case HitKind::sphere:
+      return spheres_[hit.index].colour;
+    case HitKind::floor:
+      return sand_;
+    case HitKind::none:
+      break;
+  }
+  return {};
+}
+
+}  // namespace houle::detail

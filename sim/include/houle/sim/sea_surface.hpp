@@ -1,0 +1,63 @@
+// The sea surface of a scene at any time: every train, traced or analytic, summed (paper eq. 8).
+//
+// Once per scene each traced train's rays (wave_rays.hpp) are resampled onto a regular grid over the
+// domain holding the static fields of the train: phase phi = integral of k ds, amplitude A and the
+// local wave vector (k cos theta, k sin theta). Samples are splatted with a tent kernel wide enough
+// to close the gaps between rays; nodes no ray reached carry no wave (the lee of a wall without
+// diffraction, land). Outside the domain a train continues as straight crests with its entry
+// wavenumber and amplitude (the tracer's own convention upstream of the domain).
+//
+// Per frame only the phase changes: theta = phi - (omega t - phase) with omega t reduced in double.
+// The profile is trochoidal to first order in the steepness: the Gerstner displacement
+// x = u + q A D cos(theta(u)) inverted once, theta' = theta - q k A cos(theta), h = A sin(theta'),
+// with q k A capped below 1 so the profile never folds. Gradients of the trains add (eq. 8).
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "houle/kernel/expected.hpp"
+#include "houle/sim/scene.hpp"
+#include "houle/sim/wave_rays.hpp"
+
+namespace houle {
+
+/// One train's static fields. `nx * ny` nodes at origin + (i, j) * cell (empty for analytic trains).
+struct TrainField {
+  double omega = 0.0;        ///< rad/s
+  double phase = 0.0;        ///< rad, the train's phase offset
+  float steepness = 0.0f;    ///< Gerstner q
+  // Straight crests outside the grid (and everywhere for analytic trains):
+  // phase = far_k (dir . p) - far_offset.
+  float dir_x = 1.0f, dir_y = 0.0f;
+  float far_k = 0.0f, far_amplitude = 0.0f;
+  double far_offset = 0.0;
+  // The grid.
+  float origin_x = 0.0f, origin_y = 0.0f, cell = 1.0f;
+  std::size_t nx = 0, ny = 0;
+  std::vector<float> phi, amplitude, kx, ky;
+};
+
+class SeaSurface {
+ public:
+  /// `cell` is the resampling grid's spacing in m (> 0).
+  static Expected<SeaSurface> build(const Scene& scene, const WaveField& field, float cell = 0.5f);
+
+  /// Fixes the time every later eval() uses (per-frame phases reduced modulo 2 pi in double).
+  void set_time(double time_s) noexcept;
+  /// Height (m, above still water) and gradient at n points; no allocation.
+  void eval(const float* x, const float* y, std::size_t n, float* height, float* grad_x, float* grad_y) const noexcept;
+  /// For SurfaceFrame::fill: `context` is a const SeaSurface*.
+  static void sample(void* context, const float* x, const float* y, std::size_t n, float* height, float* grad_x,
+                     float* grad_y) noexcept;
+
+  const std::vector<TrainField>& trains() const noexcept { return trains_; }
+  /// Bound of |h| (the sum of the largest amplitudes): for the marcher's slab.
+  float height_bound() const noexcept { return height_bound_; }
+
+ private:
+  std::vector<TrainField> trains_;
+  std::vector<float> time_phase_;  ///< per train, (omega t - phase) mod 2 pi
+  float height_bound_ = 0.0f;
+};
+
+}  // namespace houle

@@ -1,0 +1,513 @@
+// The renderer (renderer.hpp) on small images: determinism across thread counts and frame histories,
+// the allocation-free frame loop, finite output in hard cases, and plausibility of the picture
+// (sky, sea, Fresnel, sunlit faces, glint). Plus the exact ray queries of scene_objects.hpp.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <vector>
+
+#include "allocation_counter.hpp"
+#include "houle/kernel/camera.hpp"
+#include "houle/kernel/capillary.hpp"
+#include "houle/kernel/colour.hpp"
+#include "houle/kernel/gerstner.hpp"
+#include "houle/kernel/renderer.hpp"
+#include "houle/kernel/surface_frame.hpp"
+#include "scene_objects.hpp"
+
+namespace {
+
+using houle::Camera;
+using houle::Framebuffer;
+using houle::LinearRgb;
+using houle::RenderQuality;
+using houle::Renderer;
+using houle::RenderScene;
+using houle::RenderView;
+
+constexpr std::uint32_t W = 64, H = 36;
+
+std::vector<houle::GerstnerWave> two_trains() {
+  const auto wave = [](float dx, float dy, float length, float amp, float q, float phase) {
+    const float k = 2.0f * 3.14159265f / length;
+    return houle::GerstnerWave{dx, dy, k, amp, q, std::sqrt(9.81f * k), phase};
+  };
+  return {wave(0.3f, 1.0f, 20.0f, 0.3f, 0.5f, 0.0f), wave(1.0f, 0.2f, 7.0f, 0.1f, 0.4f, 1.0f)};
+}
+
+houle::SurfaceFrameConfig small_frame_config() {
+  houle::SurfaceFrameConfig c;
+  c.levels = 6;
+  c.cells = 64;
+  c.tile_cells = 8;
+  c.finest_cell = 0.25f;
+  return c;
+}
+
+/// A frame of the two trains at time t, centred under (cx, cy). Flat when `flat`.
+houle::SurfaceFrame make_surface(double t, float cx = 0.0f, float cy = 0.0f, bool flat = false) {
+  auto f = houle::SurfaceFrame::create(small_frame_config());
+  EXPECT_TRUE(f.ok());
+  const auto waves = two_trains();
+  auto g = flat ? houle::make_gerstner_frame({}, t) : houle::make_gerstner_frame(waves, t);
+  EXPECT_TRUE(g.ok());
+  f->begin_frame(cx, cy);
+  houle::fill_gerstner(f.value(), g.value());
+  return std::move(f.value());
+}
+
+houle::CapillaryFrame make_noise(double t) {
+  auto n = houle::make_capillary_frame(houle::CapillaryParams{}, t);
+  EXPECT_TRUE(n.ok());
+  return n.value();
+}
+
+Camera make_cam(std::array<float, 3> pos, std::array<float, 3> at, std::uint32_t w = W, std::uint32_t h = H,
+                std::array<float, 3> up = {0.0f, 0.0f, 1.0f}) {
+  houle::CameraParams p;
+  p.position = pos;
+  p.look_at = at;
+  p.up = up;
+  p.width = w;
+  p.height = h;
+  auto c = houle::make_camera(p);
+  EXPECT_TRUE(c.ok());
+  return c.value();
+}
+
+/// 4 m above the sea looking north, 4 degrees down.
+Camera default_cam(std::uint32_t w = W, std::uint32_t h = H) {
+  return make_cam({0.0f, 0.0f, 4.0f}, {0.0f, 60.0f, 4.0f - 60.0f * std::tan(4.0f * 0.0174533f)}, w, h);
+}
+
+/// Flat floor at z = -5 (40 x 40 cells of 5 m), a box on the left, a sphere on the right; the sun in
+/// the south-east, behind the camera's right shoulder (its glint is outside the view).
+RenderScene test_scene() {
+  RenderScene s;
+  s.floor.origin_x = -100.0f;
+  s.floor.origin_y = -50.0f;
+  s.floor.cell = 5.0f;
+  s.floor.nx = s.floor.ny = 41;
+  s.floor.z.assign(41 * 41, -5.0f);
+  s.boxes.push_back({{-12.0f, 20.0f, 1.0f}, {2.0f, 2.0f, 2.0f}, 0.0f, {0.8f, 0.3f, 0.2f}});
+  s.spheres.push_back({{5.0f, 20.0f, 0.5f}, 1.5f, {0.3f, 0.6f, 0.3f}});
+  s.sun_direction = {0.8f, -0.4f, 0.45f};
+  return s;
+}
+
+Renderer make_renderer(const RenderScene& scene, std::uint32_t w, std::uint32_t h, const RenderQuality& q,
+                       unsigned threads) {
+  auto r = Renderer::create(scene, w, h, q, threads);
+  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().field + ": " + r.error().message);
+  return std::move(r.value());
+}
+
+bool same_bytes(const Framebuffer& a, const Framebuffer& b) {
+  return a.rgb.size() == b.rgb.size() && std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+LinearRgb pixel(const Framebuffer& fb, int x, int y) {
+  const float* p = &fb.rgb[(std::size_t(y) * std::size_t(fb.width) + std::size_t(x)) * 3];
+  return {p[0], p[1], p[2]};
+}
+
+std::size_t count_nonfinite(const Framebuffer& fb) {
+  return std::size_t(std::count_if(fb.rgb.begin(), fb.rgb.end(), [](float v) { return !std::isfinite(v); }));
+}
+
+/// Image position (pixel units) of world point p.
+std::array<float, 2> project(const Camera& c, std::array<float, 3> p) {
+  const float d[3] = {p[0] - c.position[0], p[1] - c.position[1], p[2] - c.position[2]};
+  const auto dot = [&](const std::array<float, 3>& v) { return d[0] * v[0] + d[1] * v[1] + d[2] * v[2]; };
+  const float f = dot(c.forward);
+  return {dot(c.right) / f / c.pixel_scale + 0.5f * float(c.width), 0.5f * float(c.height) - dot(c.up) / f / c.pixel_scale};
+}
+
+// ---- Determinism and the frame loop --------------------------------------------------------------
+
+TEST(Renderer, IdenticalBytesForOneAndTwoThreads) {
+  const RenderScene scene = test_scene();
+  RenderQuality q;
+  q.samples_per_pixel = 4;
+  const houle::SurfaceFrame surface = make_surface(3.0);
+  const houle::CapillaryFrame noise = make_noise(3.0);
+  const Camera cam = default_cam();
+  Renderer one = make_renderer(scene, W, H, q, 1);
+  Renderer two = make_renderer(scene, W, H, q, 2);
+  EXPECT_EQ(two.threads(), 2u);
+  Framebuffer a(W, H), b(W, H);
+  one.render(surface, &noise, nullptr, cam, a);
+  two.render(surface, &noise, nullptr, cam, b);
+  EXPECT_TRUE(same_bytes(a, b));
+  EXPECT_EQ(one.last_counters().sea, two.last_counters().sea);
+  EXPECT_GT(one.last_counters().sea, 0u);
+  EXPECT_GT(one.last_counters().object, 0u);
+  EXPECT_GT(one.last_counters().sky, 0u);
+  EXPECT_EQ(one.last_counters().sea + one.last_counters().object + one.last_counters().sky, std::uint64_t(W) * H * 4);
+}
+
+TEST(Renderer, NoStateCarriedBetweenFrames) {
+  const RenderScene scene = test_scene();
+  const RenderQuality q;
+  const Camera cam = default_cam();
+  Renderer fresh = make_renderer(scene, W, H, q, 2);
+  Renderer used = make_renderer(scene, W, H, q, 2);
+  Framebuffer alone(W, H), after(W, H);
+  for (double t : {1.0, 2.0, 7.5}) {
+    const houle::SurfaceFrame s = make_surface(t, float(t), 0.0f);
+    const houle::CapillaryFrame n = make_noise(t);
+    const Camera other = make_cam({float(t), 0.0f, 3.0f}, {0.0f, 50.0f, 0.0f});
+    used.render(s, &n, nullptr, other, after);
+  }
+  const houle::SurfaceFrame s = make_surface(3.0);
+  const houle::CapillaryFrame n = make_noise(3.0);
+  fresh.render(s, &n, nullptr, cam, alone);
+  used.render(s, &n, nullptr, cam, after);
+  EXPECT_TRUE(same_bytes(alone, after));
+}
+
+TEST(Renderer, NoHeapAllocationInRender) {
+  const RenderScene scene = test_scene();
+  RenderQuality q;
+  q.samples_per_pixel = 4;
+  Renderer r = make_renderer(scene, W, H, q, 2);
+  const houle::SurfaceFrame s = make_surface(3.0);
+  const houle::CapillaryFrame n = make_noise(3.0);
+  const Camera cam = default_cam();
+  const Camera under = make_cam({0.0f, 0.0f, -2.0f}, {0.0f, 30.0f, 2.0f});
+  Framebuffer fb(W, H);
+  r.render(s, &n, nullptr, cam, fb);
+  long allocations = 0;
+  {
+    houle::test::AllocationCounter counter;
+    r.render(s, &n, nullptr, cam, fb);
+    r.render(s, nullptr, nullptr, under, fb);
+    r.render(s, &n, nullptr, cam, fb, RenderView::sea_reflectance);
+    allocations = counter.count();
+  }
+  EXPECT_EQ(allocations, 0);
+}
+
+TEST(Renderer, MismatchedSizesWriteNothing) {
+  Renderer r = make_renderer(test_scene(), W, H, {}, 1);
+  const houle::SurfaceFrame s = make_surface(3.0);
+  Framebuffer wrong(W + 1, H);
+  r.render(s, nullptr, nullptr, default_cam(), wrong);
+  EXPECT_TRUE(std::all_of(wrong.rgb.begin(), wrong.rgb.end(), [](float v) { return v == 0.0f; }));
+  Framebuffer fb(W, H);
+  r.render(s, nullptr, nullptr, default_cam(W, H + 2), fb);
+  EXPECT_TRUE(std::all_of(fb.rgb.begin(), fb.rgb.end(), [](float v) { return v == 0.0f; }));
+}
+
+// ---- Finite output in hard cases -----------------------------------------------------------------
+
+TEST(Renderer, FiniteEverywhereInHardViews) {
+  RenderScene scene = test_scene();
+  const houle::SurfaceFrame s = make_surface(3.0);
+  const houle::CapillaryFrame n = make_noise(3.0);
+  struct View {
+    std::array<float, 3> pos, at, up;
+  };
+  const View views[] = {
+      {{0.0f, 0.0f, 4.0f}, {0.0f, 60.0f, 3.9f}, {0.0f, 0.0f, 1.0f}},     // grazing, horizon in the middle
+      {{0.0f, 0.0f, 10.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}},     // straight down
+      {{0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 50.0f}, {0.0f, 1.0f, 0.0f}},     // straight up
+      {{0.0f, 0.0f, -2.0f}, {0.0f, 30.0f, 2.0f}, {0.0f, 0.0f, 1.0f}},    // under water, up at the surface
+      {{0.0f, 0.0f, -2.0f}, {0.0f, 0.0f, 10.0f}, {0.0f, 1.0f, 0.0f}},    // under water, straight up
+      {{0.0f, 0.0f, -4.9f}, {0.0f, 30.0f, -6.0f}, {0.0f, 0.0f, 1.0f}},   // just above the floor
+      {{-12.0f, 20.0f, 1.0f}, {0.0f, 50.0f, 0.0f}, {0.0f, 0.0f, 1.0f}},  // inside the box
+      {{0.0f, 0.0f, 0.01f}, {0.0f, 60.0f, 0.01f}, {0.0f, 0.0f, 1.0f}},   // at the water line
+  };
+  for (bool spectral : {true, false}) {
+    for (float sun_z : {0.45f, 0.02f, -0.2f}) {
+      scene.sun_direction = {0.0f, 0.9f, sun_z};  // ahead: glint in view
+      RenderQuality q;
+      q.spectral_absorption = spectral;
+      q.samples_per_pixel = 8;
+      Renderer r = make_renderer(scene, 32, 18, q, 2);
+      for (const View& v : views) {
+        const Camera cam = make_cam(v.pos, v.at, 32, 18, v.up);
+        Framebuffer fb(32, 18);
+        r.render(s, &n, nullptr, cam, fb);
+        EXPECT_EQ(count_nonfinite(fb), 0u);
+        EXPECT_EQ(r.last_counters().nonfinite, 0u);
+        EXPECT_TRUE(std::all_of(fb.rgb.begin(), fb.rgb.end(), [](float x) { return x >= 0.0f; }));
+      }
+    }
+  }
+}
+
+// ---- The picture --------------------------------------------------------------------------------
+
+TEST(Renderer, SkyIsBlueAndSeaDarkerThanSky) {
+  Renderer r = make_renderer(test_scene(), W, H, {}, 2);
+  const houle::SurfaceFrame s = make_surface(3.0);
+  const houle::CapillaryFrame n = make_noise(3.0);
+  const Camera cam = default_cam();
+  Framebuffer fb(W, H), kr(W, H);
+  r.render(s, &n, nullptr, cam, fb);
+  r.render(s, &n, nullptr, cam, kr, RenderView::sea_reflectance);
+  // Rows above the horizon (4 degrees above the centre, ~2 rows) and above every object are sky.
+  double sky = 0.0, sea = 0.0;
+  int sky_n = 0, sea_n = 0;
+  for (int y = 0; y < 10; ++y) {
+    for (int x = 0; x < int(W); ++x) {
+      const LinearRgb c = pixel(fb, x, y);
+      EXPECT_GT(c.b, c.r) << x << ", " << y;
+      sky += houle::luminance(c);
+      ++sky_n;
+    }
+  }
+  for (int y = 0; y < int(H); ++y) {
+    for (int x = 0; x < int(W); ++x) {
+      if (pixel(kr, x, y).r > 0.0f) sea += houle::luminance(pixel(fb, x, y)), ++sea_n;
+    }
+  }
+  ASSERT_GT(sea_n, int(W * H / 3));
+  EXPECT_LT(sea / sea_n, 0.8 * sky / sky_n);
+  EXPECT_GT(sea / sea_n, 0.0);
+}
+
+TEST(Renderer, FresnelStraightDownAndGrazing) {
+  RenderScene scene = test_scene();
+  scene.boxes.clear();
+  scene.spheres.clear();
+  Renderer r = make_renderer(scene, W, H, {}, 1);
+  const houle::SurfaceFrame flat = make_surface(0.0, 0.0f, 0.0f, true);
+  // Straight down: K_r = ((1.34 - 1) / (1.34 + 1))^2 = 0.02111 (rendering.md 3.2).
+  const Camera down = make_cam({0.0f, 0.0f, 10.0f}, {0.0f, 0.0f, 0.0f}, W, H, {0.0f, 1.0f, 0.0f});
+  Framebuffer fb(W, H);
+  r.render(flat, nullptr, nullptr, down, fb, RenderView::sea_reflectance);
+  EXPECT_NEAR(pixel(fb, W / 2, H / 2).r, 0.02111f, 2e-4f);
+  EXPECT_EQ(r.last_counters().sea, std::uint64_t(W) * H);
+
+  // Grazing: 2 m above a flat sea looking at the horizon. Just below it K_r is large and the sea
+  // shows the sky it reflects.
+  const Camera level = make_cam({0.0f, 0.0f, 2.0f}, {0.0f, 100.0f, 2.0f});
+  Framebuffer kr(W, H), img(W, H);
+  r.render(flat, nullptr, nullptr, level, kr, RenderView::sea_reflectance);
+  r.render(flat, nullptr, nullptr, level, img);
+  // The horizon is the centre line (2 m is nothing against the ~0.01 rad/px scale at 100+ m).
+  const int below = int(H) / 2 + 1, above = int(H) / 2 - 2;
+  ASSERT_EQ(pixel(kr, W / 2, above).r, 0.0f);
+  EXPECT_GT(pixel(kr, W / 2, below).r, 0.5f);
+  EXPECT_GT(houle::luminance(pixel(img, W / 2, below)), 0.5f * houle::luminance(pixel(img, W / 2, above)));
+  // Further down the reflectance falls towards the 2 % of normal incidence.
+  EXPECT_LT(pixel(kr, W / 2, H - 1).r, pixel(kr, W / 2, below).r);
+}
+
+TEST(Renderer, BoxIsLitOnItsSunnySide) {
+  const RenderScene scene = test_scene();
+  const std::uint32_t w = 128, h = 72;
+  Renderer r = make_renderer(scene, w, h, {}, 2);
+  const houle::SurfaceFrame s = make_surface(3.0);
+  const Camera cam = default_cam(w, h);
+  Framebuffer fb(w, h);
+  r.render(s, nullptr, nullptr, cam, fb);
+  // The box at (-12, 20, 1), half size 2: its east face (+x) faces the sun (0.8, -0.4, 0.45) at
+  // N.L = 0.8, its south face (-y) at 0.4; both are in view.
+  const auto east = project(cam, {-10.0f, 20.0f, 1.5f});
+  const auto south = project(cam, {-12.0f, 18.0f, 1.5f});
+  const LinearRgb e = pixel(fb, int(east[0]), int(east[1]));
+  const LinearRgb so = pixel(fb, int(south[0]), int(south[1]));
+  EXPECT_GT(houle::luminance(e), 1.3f * houle::luminance(so));
+  // The box is red: its lit face too.
+  EXPECT_GT(e.r, e.g);
+  EXPECT_GT(e.r, e.b);
+  // Without the sun's contribution the two faces are alike: put the sun behind the box's back (north-west).
+  RenderScene back = scene;
+  back.sun_direction = {-0.8f, 0.5f, 0.3f};
+  Renderer rb = make_renderer(back, w, h, {}, 2);
+  Framebuffer fb2(w, h);
+  rb.render(s, nullptr, nullptr, cam, fb2);
+  EXPECT_NEAR(houle::luminance(pixel(fb2, int(east[0]), int(east[1]))),
+              houle::luminance(pixel(fb2, int(south[0]), int(south[1]))), 1e-3f);
+}
+
+TEST(Renderer, SunGlintInFrontIsTheBrightestThing) {
+  RenderScene scene = test_scene();
+  scene.sun_direction = {0.0f, 1.0f, 0.12f};  // low sun straight ahead
+  Renderer r = make_renderer(scene, W, H, {}, 2);
+  const houle::SurfaceFrame s = make_surface(3.0);
+  const houle::CapillaryFrame n = make_noise(3.0);
+  Framebuffer fb(W, H);
+  r.render(s, &n, nullptr, default_cam(), fb);
+  float sea_max = 0.0f, sky_max = 0.0f;
+  for (int y = 0; y < int(H); ++y) {
+    for (int x = 0; x < int(W); ++x) {
+      const float l = houle::luminance(pixel(fb, x, y));
+      (y < 10 ? sky_max : sea_max) = std::max(y < 10 ? sky_max : sea_max, l);
+    }
+  }
+  EXPECT_GT(sea_max, 2.0f * sky_max);
+}
+
+TEST(Renderer, ClearWaterShowsTheFloorDeepWaterHidesIt) {
+  // Looking straight down through 5 m of pure water onto a white floor, and through 500 m.
+  RenderScene shallow;
+  shallow.floor.nx = shallow.floor.ny = 2;
+  shallow.floor.origin_x = shallow.floor.origin_y = -1000.0f;
+  shallow.floor.cell = 2000.0f;
+  shallow.floor.z.assign(4, -5.0f);
+  shallow.floor.sand = {1.0f, 1.0f, 1.0f};
+  shallow.sun_direction = {0.0f, 0.3f, 1.0f};
+  RenderScene deep = shallow;
+  deep.floor.z.assign(4, -500.0f);
+  const houle::SurfaceFrame flat = make_surface(0.0, 0.0f, 0.0f, true);
+  const Camera down = make_cam({0.0f, 0.0f, 10.0f}, {0.0f, 0.0f, 0.0f}, W, H, {0.0f, 1.0f, 0.0f});
+  for (bool spectral : {true, false}) {
+    RenderQuality q;
+    q.spectral_absorption = spectral;
+    Renderer a = make_renderer(shallow, W, H, q, 1);
+    Renderer b = make_renderer(deep, W, H, q, 1);
+    Framebuffer fa(W, H), fbd(W, H);
+    a.render(flat, nullptr, nullptr, down, fa);
+    b.render(flat, nullptr, nullptr, down, fbd);
+    const LinearRgb ca = pixel(fa, W / 2, H / 2), cb = pixel(fbd, W / 2, H / 2);
+    EXPECT_GT(houle::luminance(ca), 2.0f * houle::luminance(cb)) << spectral;
+    EXPECT_GT(ca.b, ca.r) << spectral;  // the red is absorbed first
+    EXPECT_GT(cb.b, cb.r) << spectral;
+  }
+}
+
+TEST(Renderer, UnderWaterTotalInternalReflectionOutsideSnellsWindow) {
+  RenderScene scene = test_scene();
+  Renderer r = make_renderer(scene, W, H, {}, 2);
+  const houle::SurfaceFrame flat = make_surface(0.0, 0.0f, 0.0f, true);
+  // 3 m under a flat sea looking up at 45 degrees with a 60 degree field: both sides of 48.3 degrees.
+  const Camera cam = make_cam({0.0f, 0.0f, -3.0f}, {0.0f, 10.0f, 7.0f});
+  Framebuffer kr(W, H), img(W, H);
+  r.render(flat, nullptr, nullptr, cam, kr, RenderView::sea_reflectance);
+  int total = 0, partial = 0;
+  for (int y = 0; y < int(H); ++y) {
+    for (int x = 0; x < int(W); ++x) {
+      const float k = pixel(kr, x, y).r;
+      total += k == 1.0f;
+      partial += k > 0.0f && k < 1.0f;
+    }
+  }
+  EXPECT_GT(total, 0);
+  EXPECT_GT(partial, 0);
+  r.render(flat, nullptr, nullptr, cam, img);
+  EXPECT_EQ(count_nonfinite(img), 0u);
+}
+
+TEST(Renderer, RejectsInvalidInput) {
+  RenderQuality q;
+  q.samples_per_pixel = 3;
+  EXPECT_FALSE(Renderer::create(test_scene(), W, H, q, 1).ok());
+  EXPECT_FALSE(Renderer::create(test_scene(), 0, H, {}, 1).ok());
+  RenderScene s = test_scene();
+  s.boxes[0].half_extent[1] = 0.0f;
+  auto r = Renderer::create(s, W, H, {}, 1);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().field, "boxes[0].half_extent");
+  s = test_scene();
+  s.floor.z.pop_back();
+  EXPECT_FALSE(Renderer::create(s, W, H, {}, 1).ok());
+  s = test_scene();
+  s.turbidity = 20.0f;
+  EXPECT_FALSE(Renderer::create(s, W, H, {}, 1).ok());
+  s = test_scene();
+  s.sea_dominant_wavelength_nm = 100.0f;
+  r = Renderer::create(s, W, H, {}, 1);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().field, "sea_dominant_wavelength_nm");
+  EXPECT_TRUE(Renderer::create(test_scene(), W, H, {}, 0).ok());  // 0 threads: the caller alone
+}
+
+// ---- Scene object queries ------------------------------------------------------------------------
+
+using houle::detail::HitKind;
+using houle::detail::SceneObjects;
+using houle::detail::SceneRay;
+
+SceneRay ray_to(std::array<double, 3> o, std::array<double, 3> d) {
+  const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  return {o[0], o[1], o[2], d[0] / n, d[1] / n, d[2] / n};
+}
+
+TEST(SceneObjects, PlanarFloorMatchesThePlaneInsideAndBeyondTheGrid) {
+  // z = 0.1 x - 0.05 y - 3 sampled on a grid is exactly bilinear; outside it the edges extend.
+  RenderScene s;
+  s.floor.origin_x = -20.0f;
+  s.floor.origin_y = -10.0f;
+  s.floor.cell = 2.0f;
+  s.floor.nx = 21;
+  s.floor.ny = 31;
+  for (std::uint32_t j = 0; j < s.floor.ny; ++j) {
+    for (std::uint32_t i = 0; i < s.floor.nx; ++i) {
+      const double x = -20.0 + 2.0 * i, y = -10.0 + 2.0 * j;
+      s.floor.z.push_back(float(0.1 * x - 0.05 * y - 3.0));
+    }
+  }
+  auto built = SceneObjects::build(s);
+  ASSERT_TRUE(built.ok());
+  const SceneObjects& o = built.value();
+  const auto plane_t = [](const SceneRay& r) {
+    // oz + t dz = 0.1 (ox + t dx) - 0.05 (oy + t dy) - 3
+    return (0.1 * r.ox - 0.05 * r.oy - 3.0 - r.oz) / (r.dz - 0.1 * r.dx + 0.05 * r.dy);
+  };
+  int checked = 0;
+  for (int k = 0; k < 200; ++k) {
+    const double a = 0.031 * k, e = -0.05 - 0.004 * k;  // azimuths all round, down 3 to 48 degrees
+    const SceneRay r = ray_to({1.3, 2.7, 4.0}, {std::cos(a), std::sin(a), std::tan(e) * 1.0});
+    const double tp = plane_t(r);
+    const double x = r.ox + tp * r.dx, y = r.oy + tp * r.dy;
+    const bool inside = x >= -20.0 && x <= 20.0 && y >= -10.0 && y <= 50.0;
+    const houle::detail::SurfaceHit h = o.intersect(r, 0.0, 1e5);
+    ASSERT_EQ(h.kind, HitKind::floor) << k;
+    if (inside) {
+      EXPECT_NEAR(h.t, tp, 1e-4 * tp) << k;
+      EXPECT_NEAR(h.normal[0], -0.1 / std::sqrt(1.0125), 1e-5);
+      ++checked;
+    }
+    // Wherever it is, the hit lies on the floor.
+    const double hx = r.ox + h.t * r.dx, hy = r.oy + h.t * r.dy, hz = r.oz + h.t * r.dz;
+    EXPECT_NEAR(hz, o.floor_height(hx, hy), 1e-3) << k;
+  }
+  EXPECT_GT(checked, 50);
+  // Beyond the grid's east edge the floor is the edge column's z: 0.1 * 20 - 0.05 y - 3.
+  EXPECT_NEAR(o.floor_height(500.0, 0.0), -1.0, 1e-6);
+  // A ray that stays above the highest sample misses; the z clip above the floor misses too.
+  EXPECT_EQ(o.intersect(ray_to({0.0, 0.0, 10.0}, {1.0, 0.0, 0.0}), 0.0, 1e5).kind, HitKind::none);
+  EXPECT_EQ(o.intersect(ray_to({0.0, 0.0, 4.0}, {0.0, 0.3, -1.0}), 0.0, 1e5, 0.0).kind, HitKind::none);
+  EXPECT_FALSE(o.occluded(ray_to({0.0, 0.0, -2.0}, {0.0, 0.0, 1.0}), 0.0, 1e5));
+  EXPECT_TRUE(o.occluded(ray_to({0.0, 0.0, -2.0}, {0.0, 0.0, -1.0}), 0.0, 1e5));
+}
+
+TEST(SceneObjects, BoxesAndSpheres) {
+  RenderScene s;
+  s.boxes.push_back({{10.0f, 0.0f, 0.0f}, {1.0f, 2.0f, 0.5f}, 0.5f, {1.0f, 0.0f, 0.0f}});
+  s.spheres.push_back({{0.0f, 10.0f, 1.0f}, 2.0f, {0.0f, 1.0f, 0.0f}});
+  auto built = SceneObjects::build(s);
+  ASSERT_TRUE(built.ok());
+  const SceneObjects& o = built.value();
+  // Sphere head on: t = 10 - 2.
+  auto h = o.intersect(ray_to({0.0, 0.0, 1.0}, {0.0, 1.0, 0.0}), 0.0, 1e5);
+  ASSERT_EQ(h.kind, HitKind::sphere);
+  EXPECT_NEAR(h.t, 8.0f, 1e-5f);
+  EXPECT_NEAR(h.normal[1], -1.0f, 1e-6f);
+  // The rotated box along its local x axis (yaw 0.5): hits its -x face at distance 10 - 1.
+  const double c = std::cos(0.5), sn = std::sin(0.5);
+  h = o.intersect(ray_to({10.0 - 10.0 * c, -10.0 * sn, 0.0}, {c, sn, 0.0}), 0.0, 1e5);
+  ASSERT_EQ(h.kind, HitKind::box);
+  EXPECT_NEAR(h.t, 9.0f, 1e-5f);
+  EXPECT_NEAR(h.normal[0], -c, 1e-6);
+  EXPECT_NEAR(h.normal[1], -sn, 1e-6);
+  // From above onto its top face.
+  h = o.intersect(ray_to({10.0, 0.0, 5.0}, {0.0, 0.0, -1.0}), 0.0, 1e5);
+  ASSERT_EQ(h.kind, HitKind::box);
+  EXPECT_NEAR(h.t, 4.5f, 1e-5f);
+  EXPECT_EQ(h.normal[2], 1.0f);
+  // t_max excludes it; the empty floor never occludes.
+  EXPECT_EQ(o.intersect(ray_to({10.0, 0.0, 5.0}, {0.0, 0.0, -1.0}), 0.0, 4.0).kind, HitKind::none);
+  EXPECT_TRUE(o.occluded(ray_to({10.0, 0.0, 5.0}, {0.0, 0.0, -1.0}), 0.0, 5.0));
+  EXPECT_FALSE(o.occluded(ray_to({10.0, 0.0, 5.0}, {0.0, 0.0, 1.0}), 0.0, 1e5));
+  EXPECT_FALSE(o.has_floor());
+}
+
+}  // namespace

@@ -1,0 +1,291 @@
+// SurfaceFrame: placement, fill, and the bounds the marcher relies on (they must really bound H).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "houle/kernel/gerstner.hpp"
+#include "houle/kernel/isa.hpp"
+#include "houle/kernel/surface_frame.hpp"
+
+namespace {
+
+using houle::SurfaceFrame;
+using houle::SurfaceFrameConfig;
+
+// A coastal sea: swell plus chop down to 0.55 m (rendering.md 1.3's test sea, as trochoids).
+std::vector<houle::GerstnerWave> coastal_waves() {
+  const double trains[][3] = {{0.6, 40, 0}, {0.3, 17, 25}, {0.15, 8, -40}, {0.08, 4, 70},
+                              {0.04, 2.1, 10}, {0.02, 1.1, -65}, {0.01, 0.55, 35}};
+  std::vector<houle::GerstnerWave> w;
+  int i = 0;
+  for (const auto& t : trains) {
+    const double k = 2 * 3.141592653589793 / t[1], a = t[2] * 3.141592653589793 / 180;
+    w.push_back({float(std::cos(a)), float(std::sin(a)), float(k), float(t[0]), 0.5f, float(std::sqrt(9.81 * k)),
+                 float(1.3 * i++)});
+  }
+  return w;
+}
+
+SurfaceFrame make_frame(const SurfaceFrameConfig& config = {}) {
+  auto f = SurfaceFrame::create(config);
+  EXPECT_TRUE(f.ok()) << f.error().field << ": " << f.error().message;
+  return std::move(f.value());
+}
+
+TEST(SurfaceFrame, RejectsInvalidConfigs) {
+  EXPECT_GT(SurfaceFrame::bytes_bound({}), 0u);
+  const auto bad = [](auto change) {
+    SurfaceFrameConfig c;
+    change(c);
+    EXPECT_EQ(SurfaceFrame::bytes_bound(c), 0u);
+    return SurfaceFrame::create(c).ok();
+  };
+  EXPECT_FALSE(bad([](SurfaceFrameConfig& c) { c.levels = 0; }));
+  EXPECT_FALSE(bad([](SurfaceFrameConfig& c) { c.levels = 17; }));
+  EXPECT_FALSE(bad([](SurfaceFrameConfig& c) { c.tile_cells = 12; }));
+  EXPECT_FALSE(bad([](SurfaceFrameConfig& c) { c.cells = 100; }));
+  EXPECT_FALSE(bad([](SurfaceFrameConfig& c) { c.cells = 48; }));  // < 4 tiles
+  EXPECT_FALSE(bad([](SurfaceFrameConfig& c) { c.finest_cell = 0.0f; }));
+  EXPECT_FALSE(bad([](SurfaceFrameConfig& c) { c.finest_cell = NAN; }));
+  EXPECT_FALSE(bad([](SurfaceFrameConfig& c) { c.blend_fraction = 0.0f; }));
+  EXPECT_FALSE(bad([](SurfaceFrameConfig& c) { c.far_height = INFINITY; }));
+  const auto e = SurfaceFrame::create(SurfaceFrameConfig{.levels = 0});
+  ASSERT_FALSE(e.ok());
+  EXPECT_EQ(e.error().field, "surface.levels");
+}
+
+TEST(SurfaceFrame, LevelsSnapToTilesNestAndCoverTheirReach) {
+  SurfaceFrameConfig cfg;
+  SurfaceFrame f = make_frame(cfg);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> pos(-500.0f, 500.0f);
+  for (int trial = 0; trial < 50; ++trial) {
+    const float cx = pos(rng), cy = pos(rng);
+    f.begin_frame(cx, cy);
+    for (std::uint32_t l = 0; l < cfg.levels; ++l) {
+      const houle::SurfaceLevel& s = f.level(l);
+      const double cell = std::ldexp(double(cfg.finest_cell), int(l)), tile = cell * cfg.tile_cells;
+      EXPECT_EQ(double(s.cell), cell);
+      // Origins on the tile lattice: nodes at fixed world points whatever the camera does.
+      EXPECT_EQ(std::fmod(double(s.origin_x), tile), 0.0);
+      EXPECT_EQ(std::fmod(double(s.origin_y), tile), 0.0);
+      // The reach square lies inside the grid (bilinear taps included).
+      const double extent = cell * cfg.cells;
+      EXPECT_LE(s.origin_x, cx - s.reach);
+      EXPECT_GE(s.origin_x + extent, cx + s.reach + cell);
+      EXPECT_LE(s.origin_y, cy - s.reach);
+      EXPECT_GE(s.origin_y + extent, cy + s.reach + cell);
+      if (l > 0) {
+        EXPECT_EQ(s.reach, 2.0f * f.level(l - 1).reach);
+        // The finer grid lies inside this one (blend partner and nested tile bounds).
+        EXPECT_LE(s.origin_x, f.level(l - 1).origin_x);
+        EXPECT_GE(s.origin_x + extent, f.level(l - 1).origin_x + extent / 2);
+      }
+    }
+  }
+}
+
+/// Node (i, j) of level l belongs to a tile the fill covered.
+bool node_filled(const SurfaceFrame& f, std::uint32_t l, std::size_t i, std::size_t j) {
+  const std::size_t tc = f.config().tile_cells, nt = f.tiles_per_side();
+  for (std::size_t tj : {j / tc, j / tc - (j % tc == 0 && j > 0 ? 1 : 0)}) {
+    for (std::size_t ti : {i / tc, i / tc - (i % tc == 0 && i > 0 ? 1 : 0)}) {
+      if (ti < nt && tj < nt && f.tile_filled(l, std::uint32_t(ti), std::uint32_t(tj))) return true;
+    }
+  }
+  return false;
+}
+
+TEST(SurfaceFrame, GerstnerFillEqualsDirectEvaluationAtNodes) {
+  SurfaceFrameConfig cfg;
+  cfg.levels = 4;
+  cfg.cells = 128;
+  SurfaceFrame f = make_frame(cfg);
+  const auto waves = coastal_waves();
+  const auto frame = houle::make_gerstner_frame(waves, 12.25);
+  ASSERT_TRUE(frame.ok());
+  for (houle::Isa isa : houle::supported_isas()) {
+    f.begin_frame(13.7f, -41.2f);
+    houle::fill_gerstner(isa, f, frame.value());
+    const std::size_t n = cfg.cells + 1;
+    std::vector<float> x(n), y(n), h(n), gx(n), gy(n);
+    std::size_t mismatches = 0, checked = 0;
+    for (std::uint32_t l = 0; l < cfg.levels; ++l) {
+      const houle::SurfaceLevel& s = f.level(l);
+      for (std::size_t j = 0; j < n; j += 7) {
+        for (std::size_t i = 0; i < n; ++i) x[i] = s.origin_x + float(i) * s.cell, y[i] = s.origin_y + float(j) * s.cell;
+        houle::gerstner_eval(isa, frame.value(), x.data(), y.data(), n, {h.data(), gx.data(), gy.data()});
+        for (std::size_t i = 0; i < n; ++i) {
+          if (!node_filled(f, l, i, j)) continue;
+          ++checked;
+          const std::size_t k = j * f.stride() + i;
+          mismatches += f.heights(l)[k] != h[i] || f.grad_x(l)[k] != gx[i] || f.grad_y(l)[k] != gy[i];
+        }
+      }
+    }
+    EXPECT_EQ(mismatches, 0u) << houle::isa_name(isa);
+    EXPECT_GT(checked, std::size_t(cfg.levels) * n * n / 7 / 2);  // most nodes are filled
+  }
+}
+
+// Fills the frame, then checks every level's tiles against the surface the marcher samples.
+struct BoundsCheck {
+  std::size_t samples = 0, height_violations = 0, slope_violations = 0;
+  double worst_slope_use = 0.0;  // max over segments of |dH| / bound (<= 1)
+};
+
+BoundsCheck check_bounds(const SurfaceFrame& f, std::mt19937& rng, int per_tile) {
+  const auto& cfg = f.config();
+  BoundsCheck r;
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const float cx = f.view().centre_x, cy = f.view().centre_y;
+  for (std::uint32_t l = 0; l < cfg.levels; ++l) {
+    const houle::SurfaceLevel& s = f.level(l);
+    const float tile = s.cell * float(cfg.tile_cells);
+    for (std::uint32_t tj = 0; tj < f.tiles_per_side(); ++tj) {
+      for (std::uint32_t ti = 0; ti < f.tiles_per_side(); ++ti) {
+        const houle::TileBounds b = f.tile(l, ti, tj);
+        const float x0 = s.origin_x + float(ti) * tile, y0 = s.origin_y + float(tj) * tile;
+        // The bounds hold over the tile within the level's reach (finer levels inside it included).
+        const float lo_x = std::max(x0, cx - s.reach), hi_x = std::min(x0 + tile, cx + s.reach);
+        const float lo_y = std::max(y0, cy - s.reach), hi_y = std::min(y0 + tile, cy + s.reach);
+        if (!(lo_x < hi_x && lo_y < hi_y)) continue;
+        for (int k = 0; k < per_tile; ++k) {
+          const float ax = lo_x + u(rng) * (hi_x - lo_x), ay = lo_y + u(rng) * (hi_y - lo_y);
+          // A short segment inside the same region, sometimes along an axis, sometimes across cells.
+          const float len = (k % 3 == 0 ? 0.02f : 1.5f) * s.cell;
+          const float bx = std::clamp(ax + len * (2 * u(rng) - 1), lo_x, hi_x);
+          const float by = std::clamp(ay + len * (2 * u(rng) - 1), lo_y, hi_y);
+          const float ha = f.height_at(ax, ay), hb = f.height_at(bx, by);
+          ++r.samples;
+          r.height_violations += !(ha >= b.h_min && ha <= b.h_max);
+          const double bound = b.slope_x * std::fabs(double(bx) - ax) + b.slope_y * std::fabs(double(by) - ay);
+          // 1e-6 m: the rounding of two float bilinear evaluations.
+          if (std::fabs(double(hb) - ha) > bound + 1e-6) ++r.slope_violations;
+          if (bound > 1e-4) r.worst_slope_use = std::max(r.worst_slope_use, std::fabs(double(hb) - ha) / bound);
+        }
+      }
+    }
+  }
+  return r;
+}
+
+TEST(SurfaceFrame, TileBoundsBoundTheBlendedBilinearSurface) {
+  SurfaceFrameConfig cfg;
+  cfg.levels = 5;
+  cfg.cells = 128;
+  cfg.tile_cells = 8;
+  SurfaceFrame f = make_frame(cfg);
+  const auto frame = houle::make_gerstner_frame(coastal_waves(), 3.0);
+  ASSERT_TRUE(frame.ok());
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 3; ++trial) {
+    f.begin_frame(7.3f * float(trial) - 2.0f, -3.1f * float(trial) + 1.0f);
+    houle::fill_gerstner(f, frame.value());
+    const BoundsCheck r = check_bounds(f, rng, 24);
+    EXPECT_EQ(r.height_violations, 0u);
+    EXPECT_EQ(r.slope_violations, 0u);
+    EXPECT_LE(r.worst_slope_use, 1.0);
+    std::printf("tile bounds: %zu samples, worst |dH| / slope bound %.3f\n", r.samples, r.worst_slope_use);
+  }
+}
+
+TEST(SurfaceFrame, SlabBoundsEverySampleIncludingFarPlaneAndNoise) {
+  SurfaceFrameConfig cfg;
+  cfg.levels = 4;
+  cfg.cells = 128;
+  cfg.far_height = 0.0f;
+  SurfaceFrame f = make_frame(cfg);
+  const auto frame = houle::make_gerstner_frame(coastal_waves(), 8.0);
+  ASSERT_TRUE(frame.ok());
+  f.begin_frame(-20.0f, 35.0f);
+  houle::fill_gerstner(f, frame.value());
+  std::mt19937 rng(2);
+  const float reach = f.level(cfg.levels - 1).reach;
+  std::uniform_real_distribution<float> d(-1.5f * reach, 1.5f * reach);
+  float lo = 1e9f, hi = -1e9f;
+  for (int i = 0; i < 200000; ++i) {
+    const float h = f.height_at(-20.0f + d(rng), 35.0f + d(rng));
+    lo = std::min(lo, h);
+    hi = std::max(hi, h);
+  }
+  EXPECT_GE(lo, f.z_min());
+  EXPECT_LE(hi, f.z_max());
+  // Not absurdly loose: the slab is within the sum of amplitudes (1.2 m) plus margins.
+  EXPECT_GT(f.z_min(), -1.25f);
+  EXPECT_LT(f.z_max(), 1.25f);
+  std::printf("slab [%.4f, %.4f] m, samples [%.4f, %.4f] m\n", f.z_min(), f.z_max(), lo, hi);
+  const float z0 = f.z_min(), z1 = f.z_max(), g = f.slope_bound();
+  f.set_noise_bounds(0.05f, 2.0f);
+  EXPECT_EQ(f.z_min(), z0 - 0.05f);
+  EXPECT_EQ(f.z_max(), z1 + 0.05f);
+  EXPECT_EQ(f.slope_bound(), g + 2.0f);
+}
+
+TEST(SurfaceFrame, FillEqualsFinishFrameAndIsDeterministic) {
+  SurfaceFrameConfig cfg;
+  cfg.levels = 5;
+  cfg.cells = 128;
+  SurfaceFrame a = make_frame(cfg), b = make_frame(cfg);
+  const auto frame = houle::make_gerstner_frame(coastal_waves(), 1.0);
+  ASSERT_TRUE(frame.ok());
+  a.begin_frame(3.0f, 4.0f);
+  houle::fill_gerstner(a, frame.value());
+  // b: a different frame first (state must not carry over), then the same one, bounds recomputed.
+  b.begin_frame(-100.0f, 50.0f);
+  houle::fill_gerstner(b, frame.value());
+  b.begin_frame(3.0f, 4.0f);
+  houle::fill_gerstner(b, frame.value());
+  b.finish_frame();
+  for (std::uint32_t l = 0; l < cfg.levels; ++l) {
+    for (std::uint32_t j = 0; j < a.tiles_per_side(); ++j) {
+      for (std::uint32_t i = 0; i < a.tiles_per_side(); ++i) {
+        const houle::TileBounds x = a.tile(l, i, j), y = b.tile(l, i, j);
+        ASSERT_EQ(x.h_min, y.h_min);
+        ASSERT_EQ(x.h_max, y.h_max);
+        ASSERT_EQ(x.slope_x, y.slope_x);
+        ASSERT_EQ(x.slope_y, y.slope_y);
+      }
+    }
+  }
+  EXPECT_EQ(a.z_min(), b.z_min());
+  EXPECT_EQ(a.z_max(), b.z_max());
+}
+
+TEST(SurfaceFrame, SurfaceIsContinuousAcrossLevelsAndInTheCameraPosition) {
+  // No popping: H(x, y) changes by O(epsilon) when the point or the camera moves by epsilon, including
+  // across reach boundaries, blend bands and tile snapping of the grids.
+  SurfaceFrameConfig cfg;
+  cfg.levels = 5;
+  cfg.cells = 128;
+  SurfaceFrame a = make_frame(cfg), b = make_frame(cfg);
+  const auto frame = houle::make_gerstner_frame(coastal_waves(), 6.0);
+  ASSERT_TRUE(frame.ok());
+  const float cx = 0.37f, cy = -0.81f;
+  a.begin_frame(cx, cy);
+  houle::fill_gerstner(a, frame.value());
+  // Moved by 1 mm: across a tile-snap boundary of level 0 if there is one nearby, since 1 mm is tiny.
+  const float eps = 1e-3f;
+  b.begin_frame(cx + eps, cy - eps);
+  houle::fill_gerstner(b, frame.value());
+  double worst_move = 0.0, worst_step = 0.0;
+  for (std::uint32_t l = 0; l < cfg.levels; ++l) {
+    // Along a ray from the centre through every band and boundary of every level.
+    const float reach = a.level(l).reach;
+    for (int k = 0; k <= 4000; ++k) {
+      const float r = reach * (0.45f + 0.6f * float(k) / 4000.0f);
+      const float x = cx + r * 0.8f, y = cy + r * 0.6f;
+      worst_move = std::max(worst_move, std::fabs(double(a.height_at(x, y)) - b.height_at(x, y)));
+      const float dh = a.height_at(x + eps, y) - a.height_at(x, y);
+      worst_step = std::max(worst_step, std::fabs(double(dh)));
+    }
+  }
+  std::printf("camera moved 1.4 mm: max |dH| %.2e m; point moved 1 mm: max |dH| %.2e m\n", worst_move, worst_step);
+  EXPECT_LT(worst_move, 2e-4);
+  EXPECT_LT(worst_step, 2e-3);
+}
+
+}  // namespace
