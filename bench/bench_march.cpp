@@ -81,9 +81,10 @@ void bm_fill(benchmark::State& state, houle::Isa isa, bool view) {
   nodes = double(filled) * c.tile_cells * c.tile_cells;
   s.frame.begin_frame(0.0f, 0.0f);
   houle::fill_gerstner(s.frame, s.waves);
-  state.counters["ms_per_frame"] =
-      benchmark::Counter(double(state.iterations()) * 1e-3, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-  state.counters["ns_per_node"] = benchmark::Counter(double(state.iterations()) * nodes,
+  // Inverted rates are times per item, printed in s with an SI prefix (ms, us, ns).
+  state.counters["frame_time"] =
+      benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["node_time"] = benchmark::Counter(double(state.iterations()) * nodes,
                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["nodes"] = nodes;
 }
@@ -95,8 +96,9 @@ void bm_finish(benchmark::State& state) {
     s.frame.finish_frame();
     benchmark::ClobberMemory();
   }
-  state.counters["ms_per_frame"] =
-      benchmark::Counter(double(state.iterations()) * 1e-3, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  // Inverted rates are times per item, printed in s with an SI prefix (ms, us, ns).
+  state.counters["frame_time"] =
+      benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void bm_march(benchmark::State& state, houle::Isa isa, bool noise) {
@@ -126,9 +128,10 @@ void bm_march(benchmark::State& state, houle::Isa isa, bool noise) {
   }
   const double rays = double(width) * height;
   state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(rays));
-  state.counters["ms_per_frame"] =
-      benchmark::Counter(double(state.iterations()) * 1e-3, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-  state.counters["ns_per_ray"] = benchmark::Counter(double(state.iterations()) * rays,
+  // Inverted rates are times per item, printed in s with an SI prefix (ms, us, ns).
+  state.counters["frame_time"] =
+      benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ray_time"] = benchmark::Counter(double(state.iterations()) * rays,
                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["Mrays_per_s"] = benchmark::Counter(double(state.iterations()) * rays * 1e-6, benchmark::Counter::kIsRate);
   state.counters["evals_per_ray"] = evals / rays;

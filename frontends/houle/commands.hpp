@@ -7,5 +7,6 @@ namespace houle::cli {
 
 int cmd_validate(std::span<char* const> args);
 int cmd_info(std::span<char* const> args);
+int cmd_render(std::span<char* const> args);
 
 }  // namespace houle::cli

@@ -15,6 +15,7 @@ constexpr const char* usage = R"(usage: houle <command> [options]
 Real-time animation kernel for coastal ocean scenes.
 
 commands:
+  render [SCENE]        render an animation to images or raw frames (the built-in coast without SCENE)
   validate SCENE        check a scene file; errors give file:line:column and what was expected
   info [SCENE]          describe a scene (the built-in coast without SCENE)
 
@@ -53,6 +54,7 @@ int main(int argc, char** argv) {
   if (cmd == "--version") return version();
   if (cmd == "validate") return houle::cli::cmd_validate(rest);
   if (cmd == "info") return houle::cli::cmd_info(rest);
+  if (cmd == "render") return houle::cli::cmd_render(rest);
   std::fprintf(stderr, "houle: unknown command '%.*s' (see houle --help)\n", int(cmd.size()), cmd.data());
   return 2;
 }

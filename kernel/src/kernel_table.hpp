@@ -6,6 +6,7 @@
 #include "houle/kernel/gerstner.hpp"
 #include "houle/kernel/optics.hpp"
 #include "march_context.hpp"
+#include "surface_bounds.hpp"
 
 namespace houle::detail {
 
@@ -16,6 +17,7 @@ struct KernelTable {
   void (*capillary_eval)(const CapillaryFrame&, const float*, const float*, const float*, std::size_t, float*, float*,
                          float*) noexcept;
   void (*march_rays)(const MarchContext&, const MarchRays&, std::size_t, const MarchHits&) noexcept;
+  void (*surface_column_stats)(const ColumnStatsJob&) noexcept;
 };
 
 }  // namespace houle::detail

@@ -5,6 +5,7 @@
 #include "gerstner_impl.hpp"
 #include "optics_impl.hpp"
 #include "march_impl.hpp"
+#include "surface_bounds_impl.hpp"
 #include "kernel_table.hpp"
 
 namespace houle::detail {
@@ -12,7 +13,7 @@ namespace {
 template <class A>
 constexpr KernelTable make_kernel_table() {
   return {&gerstner_eval<A>, &fresnel_batch<A>, &reflect_refract_batch<A>, &capillary_eval<A>,
-          &march_rays<A>};
+          &march_rays<A>, &surface_column_stats<A>};
 }
 }  // namespace
 }  // namespace houle::detail

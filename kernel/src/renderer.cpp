@@ -197,10 +197,12 @@ LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const
   LinearRgb light = ambient_water * (0.5f * (1.0f + n[2]));
   const float cos_sun = dot(n, sun_water);
   if (cos_sun > 0.0f && sun_water[2] > 0.0f) {
-    // Shadows of objects up to the still sea level; the waves' own focusing and shadowing are ignored.
+    // Shadows of boxes and spheres up to the still sea level. Not of the floor: the refracted sun is
+    // within 48 degrees of the zenith, steeper than sea beds, and a walk per pixel would cost as much as
+    // the refracted ray itself. The waves' own focusing and shadowing are ignored.
     const float offset = 1e-3f + 1e-4f * h.t;
     const double reach = double(std::max(0.0f, -p[2])) / double(sun_water[2]);
-    const bool lit = !quality.shadows || !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach);
+    const bool lit = !quality.shadows || !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
     if (lit) light = light + sun_water_rgb * cos_sun;
   }
   return albedo * light;

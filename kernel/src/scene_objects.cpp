@@ -8,11 +8,10 @@ namespace houle::detail {
 namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
-/// No query walks further than this (m) or more blocks than this: a guard for rays that graze a level
+/// No query walks further than this (m) or more blocks of its first level than this: a guard for rays that graze a level
 /// floor for ever, not a limit any real view reaches.
 constexpr double max_walk_distance = 1e7;
-constexpr std::int64_t max_block_steps = std::int64_t(1) << 18;
-constexpr std::int64_t max_cell_steps = 4 * SceneObjects::block_cells + 8;
+constexpr std::int64_t max_start_steps = std::int64_t(1) << 18;
 
 bool finite3(const std::array<float, 3>& v) {
   return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
@@ -22,24 +21,31 @@ bool reflectance_ok(LinearRgb c) {
   return ok(c.r) && ok(c.g) && ok(c.b);
 }
 
-/// Amanatides-Woo walk over the square cells of size `size` whose corner (0, 0) is (gx, gy), from t0 to
-/// t1 along the ray's xy projection: visit(i, j, t_enter, t_exit) for each cell in order of t until it
-/// returns true (then true) or t1 is passed (false). Cells are unbounded integers: callers clamp.
+/// A ray's reciprocal direction, computed once per floor query (+-inf along an axis it does not move).
+struct WalkRay {
+  const SceneRay& r;
+  double inv_dx, inv_dy;
+};
+
+/// Amanatides-Woo walk over the square cells of size `size` (1 / size = inv_size) whose corner (0, 0)
+/// is (gx, gy), from t0 to t1 along the ray's xy projection: visit(i, j, t_enter, t_exit) for each cell
+/// in order of t until it returns true (then true) or t1 is passed (false). Cells are unbounded
+/// integers: callers clamp.
 template <class Visit>
-bool walk_cells(double gx, double gy, double size, const SceneRay& r, double t0, double t1, std::int64_t max_steps,
-                Visit&& visit) {
+bool walk_cells(double gx, double gy, double size, double inv_size, const WalkRay& w, double t0, double t1,
+                std::int64_t max_steps, Visit&& visit) {
+  const SceneRay& r = w.r;
   const double px = r.ox + t0 * r.dx - gx, py = r.oy + t0 * r.dy - gy;
   constexpr double index_limit = 4.0e15;  // keeps the integer conversion defined for absurd inputs
-  std::int64_t i = std::int64_t(std::clamp(std::floor(px / size), -index_limit, index_limit));
-  std::int64_t j = std::int64_t(std::clamp(std::floor(py / size), -index_limit, index_limit));
+  std::int64_t i = std::int64_t(std::clamp(std::floor(px * inv_size), -index_limit, index_limit));
+  std::int64_t j = std::int64_t(std::clamp(std::floor(py * inv_size), -index_limit, index_limit));
   const std::int64_t si = r.dx > 0.0 ? 1 : -1, sj = r.dy > 0.0 ? 1 : -1;
-  const double step_x = r.dx != 0.0 ? size / std::abs(r.dx) : inf;
-  const double step_y = r.dy != 0.0 ? size / std::abs(r.dy) : inf;
-  double next_x = r.dx > 0.0   ? t0 + (double(i + 1) * size - px) / r.dx
-                  : r.dx < 0.0 ? t0 + (double(i) * size - px) / r.dx
+  const double step_x = size * std::abs(w.inv_dx), step_y = size * std::abs(w.inv_dy);
+  double next_x = r.dx > 0.0   ? t0 + (double(i + 1) * size - px) * w.inv_dx
+                  : r.dx < 0.0 ? t0 + (double(i) * size - px) * w.inv_dx
                                : inf;
-  double next_y = r.dy > 0.0   ? t0 + (double(j + 1) * size - py) / r.dy
-                  : r.dy < 0.0 ? t0 + (double(j) * size - py) / r.dy
+  double next_y = r.dy > 0.0   ? t0 + (double(j + 1) * size - py) * w.inv_dy
+                  : r.dy < 0.0 ? t0 + (double(j) * size - py) * w.inv_dy
                                : inf;
   double t = t0;
   for (std::int64_t n = 0; n < max_steps; ++n) {
@@ -72,8 +78,9 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
     }
     if (!std::isfinite(b.yaw_rad)) return Error{field + ".yaw_rad", "a finite angle in rad"};
     if (!reflectance_ok(b.colour)) return Error{field + ".colour", "a diffuse reflectance, each channel in [0, 1]"};
-    s.boxes_.push_back({b.center[0], b.center[1], b.center[2], b.half_extent[0], b.half_extent[1], b.half_extent[2],
-                        std::cos(double(b.yaw_rad)), std::sin(double(b.yaw_rad)), b.colour});
+    const double hx = b.half_extent[0], hy = b.half_extent[1], hz = b.half_extent[2];
+    s.boxes_.push_back({b.center[0], b.center[1], b.center[2], hx, hy, hz, std::cos(double(b.yaw_rad)),
+                        std::sin(double(b.yaw_rad)), (hx * hx + hy * hy + hz * hz) * (1.0 + 1e-9), b.colour});
   }
   for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
     const RenderSphere& sp = scene.spheres[k];
@@ -110,26 +117,39 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
   const auto [lo, hi] = std::minmax_element(f.z.begin(), f.z.end());
   s.z_min_ = *lo;
   s.z_max_ = *hi;
-  // Blocks of block_cells cells; block (bi, bj) bounds samples bi B .. bi B + B (clamped), so a cell's
-  // four corners always lie in its block, and the clamped block of a cell beyond the grid bounds the
-  // edge samples that cell repeats.
   constexpr std::int64_t B = block_cells;
-  s.bx_ = std::max<std::int64_t>(1, (s.nx_ - 1 + B - 1) / B);
-  s.by_ = std::max<std::int64_t>(1, (s.ny_ - 1 + B - 1) / B);
-  s.block_min_.assign(std::size_t(s.bx_ * s.by_), 0.0f);
-  s.block_max_.assign(std::size_t(s.bx_ * s.by_), 0.0f);
-  for (std::int64_t bj = 0; bj < s.by_; ++bj) {
-    for (std::int64_t bi = 0; bi < s.bx_; ++bi) {
-      float mn = std::numeric_limits<float>::infinity(), mx = -mn;
-      for (std::int64_t j = bj * B; j <= std::min(bj * B + B, s.ny_ - 1); ++j) {
-        for (std::int64_t i = bi * B; i <= std::min(bi * B + B, s.nx_ - 1); ++i) {
-          const float z = s.z_[std::size_t(j * s.nx_ + i)];
-          mn = std::min(mn, z);
-          mx = std::max(mx, z);
+  for (int k = 0; k < max_levels; ++k) {
+    s.level_size_[k] = k == 0 ? double(f.cell) : s.level_size_[k - 1] * double(B);
+    s.level_inv_size_[k] = 1.0 / s.level_size_[k];
+  }
+  s.levels_ = 1;
+  s.level_nx_[0] = std::max<std::int64_t>(1, s.nx_ - 1);  // cells
+  s.level_ny_[0] = std::max<std::int64_t>(1, s.ny_ - 1);
+  while (s.levels_ < max_levels && (s.level_nx_[s.levels_ - 1] > 1 || s.level_ny_[s.levels_ - 1] > 1)) {
+    const int k = s.levels_++;
+    const std::int64_t bx = (s.level_nx_[k - 1] + B - 1) / B, by = (s.level_ny_[k - 1] + B - 1) / B;
+    s.level_nx_[k] = bx;
+    s.level_ny_[k] = by;
+    std::vector<float>& m = s.level_max_[k];
+    m.assign(std::size_t(bx * by), -std::numeric_limits<float>::infinity());
+    for (std::int64_t bj = 0; bj < by; ++bj) {
+      for (std::int64_t bi = 0; bi < bx; ++bi) {
+        float mx = -std::numeric_limits<float>::infinity();
+        if (k == 1) {
+          for (std::int64_t j = bj * B; j <= std::min(bj * B + B, s.ny_ - 1); ++j) {
+            for (std::int64_t i = bi * B; i <= std::min(bi * B + B, s.nx_ - 1); ++i) {
+              mx = std::max(mx, s.z_[std::size_t(j * s.nx_ + i)]);
+            }
+          }
+        } else {
+          const std::vector<float>& c = s.level_max_[k - 1];
+          const std::int64_t cx = s.level_nx_[k - 1], cy = s.level_ny_[k - 1];
+          for (std::int64_t j = bj * B; j < std::min(bj * B + B, cy); ++j) {
+            for (std::int64_t i = bi * B; i < std::min(bi * B + B, cx); ++i) mx = std::max(mx, c[std::size_t(j * cx + i)]);
+          }
         }
+        m[std::size_t(bj * bx + bi)] = mx;
       }
-      s.block_min_[std::size_t(bj * s.bx_ + bi)] = mn;
-      s.block_max_[std::size_t(bj * s.bx_ + bi)] = mx;
     }
   }
   return s;
@@ -153,6 +173,12 @@ double SceneObjects::floor_height(double x, double y) const noexcept {
   return h00 + (h10 - h00) * u + (h01 - h00) * v + (h00 - h10 - h01 + h11) * u * v;
 }
 
+struct SceneObjects::FloorQuery {
+  WalkRay w;
+  double t_hit;                   // t_max until a hit
+  std::array<float, 3>* normal;  // written on a hit when not null
+};
+
 double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, double z_lo,
                                std::array<float, 3>* normal) const noexcept {
   if (nx_ == 0) return t_max;
@@ -171,58 +197,87 @@ double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, do
   }
   if (!(t0 <= t1)) return t_max;
 
-  double t_hit = t_max;
-  const double cell = cell_;
-  const auto visit_cell = [&](std::int64_t i, std::int64_t j, double ta, double tb) -> bool {
-    const double h00 = sample(i, j), h10 = sample(i + 1, j), h01 = sample(i, j + 1), h11 = sample(i + 1, j + 1);
-    const double za = r.oz + ta * r.dz, zb = r.oz + tb * r.dz;
-    if (std::min(za, zb) > std::max(std::max(h00, h10), std::max(h01, h11))) return false;
-    // Along the ray, s = t - ta: u = u0 + du s, v = v0 + dv s in cell units, and the bilinear
-    // h = h00 + e u + f v + g u v becomes A + B s + C s^2; solve z(s) - h(s) = 0.
-    const double u0 = (r.ox + ta * r.dx - (origin_x_ + double(i) * cell)) / cell;
-    const double v0 = (r.oy + ta * r.dy - (origin_y_ + double(j) * cell)) / cell;
-    const double du = r.dx / cell, dv = r.dy / cell;
-    const double e = h10 - h00, f = h01 - h00, g = h00 - h10 - h01 + h11;
-    const double a = h00 + e * u0 + f * v0 + g * u0 * v0;
-    const double b = e * du + f * dv + g * (u0 * dv + v0 * du);
-    const double c = g * du * dv;
-    const double a0 = za - a;  // height above the ground at the entry
-    const double s_end = tb - ta;
-    double s = inf;
-    if (a0 <= 0.0) {
-      s = 0.0;  // at or under the ground on entering (a ray starting inside it, or rounding at an edge)
-    } else {
-      // c s^2 + qb s + qc = 0 with qb = -(dz - b), qc = -a0 (< 0); the stable pair of roots.
-      const double qb = b - r.dz, qc = -a0;
-      const double disc = qb * qb - 4.0 * c * qc;
-      if (disc >= 0.0) {
-        const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
-        const double r1 = q != 0.0 ? qc / q : inf, r2 = c != 0.0 ? q / c : inf;
-        for (double root : {r1, r2}) {
-          if (root >= 0.0 && root <= s_end && root < s) s = root;
-        }
+  // Start at the finest level whose blocks the segment crosses only a few of: the levels above would
+  // only confirm what this one finds (short refracted and shadow rays go straight to the cells).
+  const double horizontal = (t1 - t0) * std::sqrt(r.dx * r.dx + r.dy * r.dy);
+  int level = 0;
+  for (double size = cell_; level < levels_ - 1 && horizontal > 4.0 * size; size *= block_cells) ++level;
+  const double inv_dx = r.dx != 0.0 ? 1.0 / r.dx : inf, inv_dy = r.dy != 0.0 ? 1.0 / r.dy : inf;
+  FloorQuery q{{r, inv_dx, inv_dy}, t_max, normal};
+  walk_level(level, q, t0, t1, max_start_steps);
+  return q.t_hit;
+}
+
+bool SceneObjects::walk_level(int level, FloorQuery& q, double ta, double tb, std::int64_t steps) const noexcept {
+  const double size = level_size_[level], inv_size = level_inv_size_[level];
+  const SceneRay& r = q.w.r;
+  // Cells and blocks are visited in order of t, so the first hit is the nearest: shadow rays stop
+  // there too. The first level may walk far (rays grazing the extended edges); the ones below cross
+  // at most a block of the level above.
+  constexpr std::int64_t nested_steps = 2 * block_cells + 8;
+  if (level == 0) {
+    return walk_cells(origin_x_, origin_y_, size, inv_size, q.w, ta, tb, steps,
+                      [&](std::int64_t i, std::int64_t j, double a, double b) { return hit_cell(q, i, j, a, b); });
+  }
+  const std::vector<float>& m = level_max_[level];
+  const std::int64_t bx = level_nx_[level], by = level_ny_[level];
+  return walk_cells(origin_x_, origin_y_, size, inv_size, q.w, ta, tb, steps,
+                    [&](std::int64_t i, std::int64_t j, double a, double b) {
+                      const std::size_t k = std::size_t(std::clamp<std::int64_t>(j, 0, by - 1) * bx +
+                                                        std::clamp<std::int64_t>(i, 0, bx - 1));
+                      // Passing above the whole block: nothing in it.
+                      if (std::min(r.oz + a * r.dz, r.oz + b * r.dz) > double(m[k])) return false;
+                      return walk_level(level - 1, q, a, b, nested_steps);
+                    });
+}
+
+bool SceneObjects::hit_cell(FloorQuery& q, std::int64_t i, std::int64_t j, double ta, double tb) const noexcept {
+  const SceneRay& r = q.w.r;
+  const double cell = cell_, inv_cell = level_inv_size_[0];
+  double h00, h10, h01, h11;
+  if (i >= 0 && j >= 0 && i < nx_ - 1 && j < ny_ - 1) {
+    const float* p = z_.data() + (j * nx_ + i);
+    h00 = p[0], h10 = p[1], h01 = p[nx_], h11 = p[nx_ + 1];
+  } else {
+    h00 = sample(i, j), h10 = sample(i + 1, j), h01 = sample(i, j + 1), h11 = sample(i + 1, j + 1);
+  }
+  const double za = r.oz + ta * r.dz, zb = r.oz + tb * r.dz;
+  if (std::min(za, zb) > std::max(std::max(h00, h10), std::max(h01, h11))) return false;
+  // Along the ray, s = t - ta: u = u0 + du s, v = v0 + dv s in cell units, and the bilinear
+  // h = h00 + e u + f v + g u v becomes a + b s + c s^2; solve z(s) - h(s) = 0.
+  const double u0 = (r.ox + ta * r.dx - (origin_x_ + double(i) * cell)) * inv_cell;
+  const double v0 = (r.oy + ta * r.dy - (origin_y_ + double(j) * cell)) * inv_cell;
+  const double du = r.dx * inv_cell, dv = r.dy * inv_cell;
+  const double e = h10 - h00, f = h01 - h00, g = h00 - h10 - h01 + h11;
+  const double a = h00 + e * u0 + f * v0 + g * u0 * v0;
+  const double b = e * du + f * dv + g * (u0 * dv + v0 * du);
+  const double c = g * du * dv;
+  const double a0 = za - a;  // height above the ground on entering
+  const double s_end = tb - ta;
+  double s = inf;
+  if (a0 <= 0.0) {
+    s = 0.0;  // at or under the ground on entering (a ray starting inside it, or rounding at an edge)
+  } else {
+    // c s^2 + qb s + qc = 0 with qb = b - dz, qc = -a0 (< 0); the stable pair of roots.
+    const double qb = b - r.dz, qc = -a0;
+    const double disc = qb * qb - 4.0 * c * qc;
+    if (disc >= 0.0) {
+      const double qq = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+      const double r1 = qq != 0.0 ? qc / qq : inf, r2 = c != 0.0 ? qq / c : inf;
+      for (double root : {r1, r2}) {
+        if (root >= 0.0 && root <= s_end && root < s) s = root;
       }
     }
-    if (!(s <= s_end)) return false;
-    t_hit = ta + s;
-    if (normal != nullptr) {
-      const double u = std::clamp(u0 + du * s, 0.0, 1.0), v = std::clamp(v0 + dv * s, 0.0, 1.0);
-      const double gx = (e + g * v) / cell, gy = (f + g * u) / cell;
-      const double inv = 1.0 / std::sqrt(gx * gx + gy * gy + 1.0);
-      *normal = {float(-gx * inv), float(-gy * inv), float(inv)};
-    }
-    return true;
-  };
-  const double block = cell * block_cells;
-  const auto visit_block = [&](std::int64_t bi, std::int64_t bj, double ta, double tb) -> bool {
-    const std::size_t k = std::size_t(std::clamp<std::int64_t>(bj, 0, by_ - 1) * bx_ + std::clamp<std::int64_t>(bi, 0, bx_ - 1));
-    const double za = r.oz + ta * r.dz, zb = r.oz + tb * r.dz;
-    if (std::min(za, zb) > double(block_max_[k])) return false;  // passes above the whole block
-    return walk_cells(origin_x_, origin_y_, cell, r, ta, tb, max_cell_steps, visit_cell);
-  };
-  // Cells are visited in order of t, so the first hit is the nearest: shadow rays stop there too.
-  walk_cells(origin_x_, origin_y_, block, r, t0, t1, max_block_steps, visit_block);
-  return t_hit;
+  }
+  if (!(s <= s_end) || !(ta + s < q.t_hit)) return false;
+  q.t_hit = ta + s;
+  if (q.normal != nullptr) {
+    const double u = std::clamp(u0 + du * s, 0.0, 1.0), v = std::clamp(v0 + dv * s, 0.0, 1.0);
+    const double gx = (e + g * v) * inv_cell, gy = (f + g * u) * inv_cell;
+    const double inv = 1.0 / std::sqrt(gx * gx + gy * gy + 1.0);
+    *q.normal = {float(-gx * inv), float(-gy * inv), float(inv)};
+  }
+  return true;
 }
 
 SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_max) const noexcept {
@@ -230,9 +285,14 @@ SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_m
   double best = t_max;
   for (std::size_t k = 0; k < boxes_.size(); ++k) {
     const Box& b = boxes_[k];
+    const double px = r.ox - b.cx, py = r.oy - b.cy, pz = r.oz - b.cz;
+    {
+      // Most rays pass far from a box: its bounding sphere rejects them with a few products.
+      const double bd = px * r.dx + py * r.dy + pz * r.dz, bc = px * px + py * py + pz * pz - b.radius2;
+      if (bc > 0.0 && (bd > 0.0 || bd * bd < bc)) continue;
+    }
     // Into the box's frame: local x along (cos, sin), y along (-sin, cos).
-    const double px = r.ox - b.cx, py = r.oy - b.cy;
-    const double l[3] = {b.cos_yaw * px + b.sin_yaw * py, -b.sin_yaw * px + b.cos_yaw * py, r.oz - b.cz};
+    const double l[3] = {b.cos_yaw * px + b.sin_yaw * py, -b.sin_yaw * px + b.cos_yaw * py, pz};
     const double d[3] = {b.cos_yaw * r.dx + b.sin_yaw * r.dy, -b.sin_yaw * r.dx + b.cos_yaw * r.dy, r.dz};
     const double h[3] = {b.hx, b.hy, b.hz};
     double t_near = -inf, t_far = inf;
@@ -290,10 +350,10 @@ SurfaceHit SceneObjects::intersect(const SceneRay& r, double t_min, double t_max
   return hit;
 }
 
-bool SceneObjects::occluded(const SceneRay& r, double t_min, double t_max) const noexcept {
+bool SceneObjects::occluded(const SceneRay& r, double t_min, double t_max, bool floor) const noexcept {
   // The objects are few and cheap next to the floor walk: test them first.
   if (hit_objects(r, t_min, t_max).kind != HitKind::none) return true;
-  return floor_hit(r, t_min, t_max, -inf, nullptr) < t_max;
+  return floor && floor_hit(r, t_min, t_max, -inf, nullptr) < t_max;
 }
 
 LinearRgb SceneObjects::albedo(const SurfaceHit& hit) const noexcept {

@@ -1,7 +1,8 @@
 // The renderer's non-sea geometry: oriented boxes, spheres and the floor height grid (sea bed and
 // land), with nearest-hit and any-hit (shadow) queries for one ray at a time. Built once per scene;
 // queries allocate nothing and are exact (closed forms; the floor's bilinear cells are solved as
-// quadratics along the ray, found by a two-level grid walk over per-block height bounds).
+// quadratics along the ray, found by a hierarchical grid walk over a maximum mipmap of the heights:
+// Tevs et al. 2008, rendering.md 1.5, here on the CPU with a 2-D DDA per level).
 //
 // The arithmetic is double: rays here are few per pixel, and the grid walk and quadratics are then
 // robust for the long, grazing rays a low camera sends over the beach.
@@ -33,8 +34,10 @@ struct SurfaceHit {
 
 class SceneObjects {
  public:
-  /// Floor cells per side of a bounds block: the coarse level of the grid walk.
+  /// Blocks of each mipmap level per side of a block of the next: level k's blocks are
+  /// block_cells^k floor cells wide.
   static constexpr int block_cells = 8;
+  static constexpr int max_levels = 8;
 
   /// Validates the scene's geometry (field names as in RenderScene) and precomputes the floor bounds.
   static Expected<SceneObjects> build(const RenderScene& scene);
@@ -43,8 +46,9 @@ class SceneObjects {
   /// above floor_z_lo (m): a primary ray below the sea's slab has crossed the sea already.
   SurfaceHit intersect(const SceneRay& ray, double t_min, double t_max,
                        double floor_z_lo = -std::numeric_limits<double>::infinity()) const noexcept;
-  /// Whether anything lies on the ray with t in [t_min, t_max) (shadow rays).
-  bool occluded(const SceneRay& ray, double t_min, double t_max) const noexcept;
+  /// Whether anything lies on the ray with t in [t_min, t_max) (shadow rays); the floor only when
+  /// `floor` is set.
+  bool occluded(const SceneRay& ray, double t_min, double t_max, bool floor = true) const noexcept;
   /// Diffuse reflectance of what was hit.
   LinearRgb albedo(const SurfaceHit& hit) const noexcept;
 
@@ -57,6 +61,7 @@ class SceneObjects {
  private:
   struct Box {
     double cx, cy, cz, hx, hy, hz, cos_yaw, sin_yaw;
+    double radius2;  // of the bounding sphere, m^2
     LinearRgb colour;
   };
   struct Sphere {
@@ -70,14 +75,24 @@ class SceneObjects {
   double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo,
                    std::array<float, 3>* normal) const noexcept;
   float sample(std::int64_t i, std::int64_t j) const noexcept;
+  struct FloorQuery;
+  bool walk_level(int level, FloorQuery& q, double ta, double tb, std::int64_t steps) const noexcept;
+  bool hit_cell(FloorQuery& q, std::int64_t i, std::int64_t j, double ta, double tb) const noexcept;
 
   std::vector<Box> boxes_;
   std::vector<Sphere> spheres_;
   // Floor.
   double origin_x_ = 0.0, origin_y_ = 0.0, cell_ = 1.0;
-  std::int64_t nx_ = 0, ny_ = 0, bx_ = 0, by_ = 0;  // samples and blocks per side
+  std::int64_t nx_ = 0, ny_ = 0;  // samples per side
   std::vector<float> z_;
-  std::vector<float> block_min_, block_max_;  // bounds of each block's samples (edges included)
+  // Maximum mipmap, levels 1 .. levels_ - 1 (level 0 is the cells themselves, bounded on the fly):
+  // block (bi, bj) of level k bounds samples bi B^k .. (bi + 1) B^k (clamped to the grid) in each axis,
+  // so a block bounds every cell inside it, and the clamped block of one beyond the grid bounds the
+  // edge samples that the extended floor repeats there. The top level has a single block.
+  int levels_ = 0;
+  std::int64_t level_nx_[max_levels] = {}, level_ny_[max_levels] = {};
+  std::vector<float> level_max_[max_levels];
+  double level_size_[max_levels] = {}, level_inv_size_[max_levels] = {};  // m and 1/m: cell_ B^k
   double z_min_ = -std::numeric_limits<double>::infinity(), z_max_ = -std::numeric_limits<double>::infinity();
   LinearRgb sand_{};
 };

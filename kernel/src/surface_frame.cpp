@@ -7,11 +7,14 @@
 #include <string>
 #include <utility>
 
+#include "houle/simd/dispatch.hpp"
+#include "kernel_table.hpp"
+
 namespace houle {
 namespace {
 
 constexpr std::size_t align_floats = 16;  // 64 bytes: the widest batch (AVX-512) and a cache line
-constexpr std::uint32_t max_tile_cells = 64;  // finish_level keeps a tile's partner heights on the stack
+constexpr std::uint32_t max_tile_cells = 64;
 
 std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
 bool power_of_two(std::uint32_t n) { return n != 0 && (n & (n - 1)) == 0; }
@@ -28,8 +31,11 @@ Layout layout(const SurfaceFrameConfig& c) {
   l.tiles = c.cells / c.tile_cells;
   l.tile_floats = round_up(std::size_t(c.levels) * l.tiles * l.tiles, align_floats);
   l.flag_floats = round_up((std::size_t(c.levels) * l.tiles * l.tiles + 3) / 4, align_floats);  // one byte per tile
-  // height, grad_x, grad_y; four tile arrays; the tiles' fill flags; two fill rows.
-  l.total_floats = 3 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats + 2 * l.stride;
+  // height, grad_x, grad_y; four tile arrays; the tiles' fill flags; two fill rows; the bounds pass's
+  // 9 column arrays and tile_cells + 1 partner rows, with a batch of slack after each (the column
+  // kernel works in whole batches).
+  l.total_floats = 3 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats + 2 * l.stride +
+                   9 * (l.stride + align_floats) + (std::size_t(c.tile_cells) + 1) * l.stride + 2 * align_floats;
   return l;
 }
 
@@ -112,6 +118,7 @@ Expected<SurfaceFrame> SurfaceFrame::create(const SurfaceFrameConfig& config) {
   f.needed_ = reinterpret_cast<std::uint8_t*>(f.tile_sy_ + l.tile_floats);
   f.row_x_ = f.tile_sy_ + l.tile_floats + l.flag_floats;
   f.row_y_ = f.row_x_ + l.stride;
+  f.scratch_ = f.row_y_ + l.stride;
   f.begin_frame(0.0f, 0.0f);
   f.global_ = {config.far_height, config.far_height, 0.0f, 0.0f};
   return f;
@@ -311,6 +318,29 @@ void SurfaceFrame::finish_frame() noexcept {
   finish_global();
 }
 
+namespace {
+
+/// Per node column of a tile row: the bounds pass's statistics (detail::ColumnStatsJob), which the
+/// tiles then reduce over their own columns.
+struct ColumnStats {
+  float* lo;
+  float* hi;
+  float* dx;
+  float* dy;
+
+  /// Reduces columns [i0, i0 + tc] into a tile's bounds (height differences, not yet slopes).
+  void reduce(std::size_t i0, std::uint32_t tc, float& l, float& h, float& sx, float& sy) const {
+    for (std::size_t i = i0; i <= i0 + tc; ++i) {
+      l = std::min(l, lo[i]);
+      h = std::max(h, hi[i]);
+      sy = std::max(sy, dy[i]);
+      if (i < i0 + tc) sx = std::max(sx, dx[i]);
+    }
+  }
+};
+
+}  // namespace
+
 void SurfaceFrame::finish_level(std::uint32_t l) noexcept {
   const SurfaceLevel& s = levels_[l];
   const std::uint32_t tc = config_.tile_cells, nt = tiles_;
@@ -329,71 +359,78 @@ void SurfaceFrame::finish_level(std::uint32_t l) noexcept {
     px = std::llround((double(s.origin_x) - p.origin_x) / p.cell);
     py = std::llround((double(s.origin_y) - p.origin_y) / p.cell);
   }
-  float partner[(max_tile_cells + 1) * (max_tile_cells + 1)];
   const std::size_t base = std::size_t(l) * nt * nt;
+  // Scratch: 9 column arrays (own and partner statistics, |partner - own|), then the partner rows.
+  const std::size_t col = stride_ + align_floats;
+  const ColumnStats own{scratch_, scratch_ + col, scratch_ + 2 * col, scratch_ + 3 * col};
+  const ColumnStats other{scratch_ + 4 * col, scratch_ + 5 * col, scratch_ + 6 * col, scratch_ + 7 * col};
+  float* diff = scratch_ + 8 * col;        // column max of |partner - own|
+  float* partner = scratch_ + 9 * col;     // tc + 1 rows of partner values at this level's nodes
+  const auto& kernels = simd::active_table<detail::KernelTable>();
 
   for (std::uint32_t tj = 0; tj < nt; ++tj) {
+    const std::size_t row = base + std::size_t(tj) * nt;
+    // The span of needed tiles, and whether any of them lies in the blend band.
+    std::uint32_t first = nt, end = 0;
+    bool band = false;
     for (std::uint32_t ti = 0; ti < nt; ++ti) {
-      const std::size_t k = base + std::size_t(tj) * nt + ti;
-      if (needed_[k] == 0) {
-        // Not filled: empty bounds (h_min > h_max); the finer tiles inside may still add theirs below.
-        tile_min_[k] = std::numeric_limits<float>::infinity();
-        tile_max_[k] = -std::numeric_limits<float>::infinity();
-        tile_sx_[k] = tile_sy_[k] = 0.0f;
-        continue;
-      }
-      const std::uint32_t i0 = ti * tc, j0 = tj * tc;
-      float lo = std::numeric_limits<float>::infinity(), hi = -lo, sx = 0.0f, sy = 0.0f;
-      // Bilinear pieces take their extremes and steepest edges at nodes: nodes and edges suffice.
-      for (std::uint32_t j = j0; j <= j0 + tc; ++j) {
-        const float* row = h + j * stride_;
-        for (std::uint32_t i = i0; i <= i0 + tc; ++i) {
-          lo = std::min(lo, row[i]);
-          hi = std::max(hi, row[i]);
-        }
-        for (std::uint32_t i = i0; i < i0 + tc; ++i) sx = std::max(sx, std::fabs(row[i + 1] - row[i]));
-        if (j < j0 + tc) {
-          for (std::uint32_t i = i0; i <= i0 + tc; ++i) sy = std::max(sy, std::fabs(row[i + stride_] - row[i]));
-        }
-      }
-      float blend_slope = 0.0f;
+      tile_min_[row + ti] = std::numeric_limits<float>::infinity();  // empty unless filled (or merged below)
+      tile_max_[row + ti] = -std::numeric_limits<float>::infinity();
+      tile_sx_[row + ti] = tile_sy_[row + ti] = 0.0f;
+      if (needed_[row + ti] == 0) continue;
+      first = std::min(first, ti);
+      end = ti + 1;
       const double x0 = s.origin_x + ti * tile, y0 = s.origin_y + tj * tile;
       double r_lo, r_hi;
       chebyshev_range(x0, x0 + tile, y0, y0 + tile, cx, cy, r_lo, r_hi);
-      if (r_lo <= band_hi && r_hi >= band_lo) {
+      band = band || (r_lo <= band_hi && r_hi >= band_lo);
+    }
+    if (first == nt) continue;
+    const std::size_t a = std::size_t(first) * tc, b = std::size_t(end) * tc, j0 = std::size_t(tj) * tc;
+    // Bilinear pieces take their extremes and steepest edges at nodes: node columns suffice.
+    kernels.surface_column_stats(
+        {h + j0 * stride_, stride_, nullptr, 0, tc + 1, a, b, own.lo, own.hi, own.dx, own.dy, nullptr});
+    for (std::uint32_t ti = first; ti < end; ++ti) {
+      const std::size_t k = row + ti;
+      if (needed_[k] == 0) continue;
+      const std::size_t i0 = std::size_t(ti) * tc;
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo, sx = 0.0f, sy = 0.0f, blend_slope = 0.0f;
+      own.reduce(i0, tc, lo, hi, sx, sy);
+      const double x0 = s.origin_x + ti * tile, y0 = s.origin_y + tj * tile;
+      double r_lo, r_hi;
+      chebyshev_range(x0, x0 + tile, y0, y0 + tile, cx, cy, r_lo, r_hi);
+      if (band && r_lo <= band_hi && r_hi >= band_lo) {
         // In the blend band H = (1 - w) h_l + w h_next, with h_next bilinear on each of this level's
-        // cells too (cells nest): bound both at the nodes, plus |h_next - h_l| |grad w|.
-        const std::uint32_t m = tc + 1;
-        for (std::uint32_t j = 0; j < m; ++j) {
-          for (std::uint32_t i = 0; i < m; ++i) {
-            float v = config_.far_height;
-            if (!last) {
-              const std::uint32_t gi = i0 + i, gj = j0 + j;
-              const std::size_t ci = std::size_t(px + gi / 2), cj = std::size_t(py + gj / 2);
-              const float fu = (gi & 1) ? 0.5f : 0.0f, fv = (gj & 1) ? 0.5f : 0.0f;
-              const float* q = ph + cj * stride_ + ci;
-              const float a = fu > 0.0f ? q[0] + fu * (q[1] - q[0]) : q[0];
-              const float b = fu > 0.0f ? q[stride_] + fu * (q[stride_ + 1] - q[stride_]) : q[stride_];
-              v = fv > 0.0f ? a + fv * (b - a) : a;
-            }
-            partner[j * m + i] = v;
+        // cells too (cells nest): bound both at the nodes, plus |h_next - h_l| |grad w|. The
+        // partner's values at this tile's nodes first (its bilinear interpolation at fractions 0, 1/2).
+        // (j0 and i0 are even: tile_cells is.) Horizontal interpolation of the partner rows first,
+        // then vertical, as the marcher's bilinear fetch orders them.
+        const std::uint32_t half = tc / 2;
+        for (std::uint32_t m = 0; m <= half; ++m) {
+          float* out = partner + 2 * m * stride_;
+          if (last) {
+            std::fill(out + i0, out + i0 + tc + 1, config_.far_height);
+            continue;
           }
-        }
-        float diff = 0.0f, psx = 0.0f, psy = 0.0f;
-        for (std::uint32_t j = 0; j < m; ++j) {
-          const float* row = h + (j0 + j) * stride_ + i0;
-          const float* prow = partner + j * m;
-          for (std::uint32_t i = 0; i < m; ++i) {
-            lo = std::min(lo, prow[i]);
-            hi = std::max(hi, prow[i]);
-            diff = std::max(diff, std::fabs(prow[i] - row[i]));
-            if (i + 1 < m) psx = std::max(psx, std::fabs(prow[i + 1] - prow[i]));
-            if (j + 1 < m) psy = std::max(psy, std::fabs(prow[i + m] - prow[i]));
+          const float* q = ph + std::size_t(py + std::int64_t(j0 / 2 + m)) * stride_ + std::size_t(px + std::int64_t(i0 / 2));
+          for (std::uint32_t e = 0; e < half; ++e) {
+            out[i0 + 2 * e] = q[e];
+            out[i0 + 2 * e + 1] = q[e] + 0.5f * (q[e + 1] - q[e]);
           }
+          out[i0 + tc] = q[half];
         }
-        sx = std::max(sx, psx);
-        sy = std::max(sy, psy);
-        blend_slope = blend_gradient * diff;
+        for (std::uint32_t m = 0; m < half; ++m) {
+          const float* u0 = partner + 2 * m * stride_;
+          const float* u1 = u0 + 2 * stride_;
+          float* out = partner + (2 * m + 1) * stride_;
+          for (std::size_t i = i0; i <= i0 + tc; ++i) out[i] = u0[i] + 0.5f * (u1[i] - u0[i]);
+        }
+        kernels.surface_column_stats({partner, stride_, h + j0 * stride_, stride_, tc + 1, i0, i0 + tc, other.lo,
+                                      other.hi, other.dx, other.dy, diff});
+        float d = 0.0f;
+        other.reduce(i0, tc, lo, hi, sx, sy);
+        for (std::size_t i = i0; i <= i0 + tc; ++i) d = std::max(d, diff[i]);
+        blend_slope = blend_gradient * d;
       }
       float slope_x = sx / s.cell + blend_slope, slope_y = sy / s.cell + blend_slope;
       add_margins(lo, hi, slope_x, slope_y);

@@ -237,7 +237,7 @@ Check check_view(const Scene& s) {
   if (auto e = in_range("sun.elevation_deg", s.sun.elevation_deg, -90.0, 90.0, "degrees")) return e;
   if (auto e = in_range("sky.turbidity", s.sky.turbidity, 1.7, 10.0, "")) return e;
 
-  const Camera& cam = s.camera;
+  const ViewCamera& cam = s.camera;
   if (auto e = finite_point("camera.position", cam.position)) return e;
   if (auto e = finite_point("camera.look_at", cam.look_at)) return e;
   if (cam.position.x == cam.look_at.x && cam.position.y == cam.look_at.y && cam.position.z == cam.look_at.z) {

@@ -169,6 +169,7 @@ class SurfaceFrame {
   std::uint8_t* needed_ = nullptr;  ///< per tile: filled this frame
   float* row_x_ = nullptr;  ///< fill scratch: node x coordinates of a row
   float* row_y_ = nullptr;  ///< fill scratch: the row's y, repeated
+  float* scratch_ = nullptr;  ///< bounds pass: column statistics and partner rows
   std::array<SurfaceLevel, max_levels> levels_{};
   float centre_x_ = 0.0f, centre_y_ = 0.0f;
   TileBounds global_{};

@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "houle/kernel/colour.hpp"  // LinearRgb: linear (not gamma-encoded) RGB reflectance in [0, 1]
 #include "houle/kernel/expected.hpp"
 #include "houle/sim/diffraction.hpp"
 
@@ -19,10 +20,6 @@ struct Point2 {
 };
 struct Point3 {
   double x = 0.0, y = 0.0, z = 0.0;  ///< m
-};
-/// Linear (not gamma-encoded) RGB reflectance, each in [0, 1].
-struct LinearRgb {
-  float r = 0.5f, g = 0.5f, b = 0.5f;
 };
 
 /// The rectangle where water is simulated (rays are traced inside it).
@@ -116,13 +113,13 @@ struct Box {
   Point3 center{};
   Point3 half_extent{1.0, 1.0, 1.0};  ///< m, each > 0
   double yaw_deg = 0.0;               ///< rotation about z
-  LinearRgb colour{};
+  LinearRgb colour{0.5f, 0.5f, 0.5f};
 };
 
 struct Sphere {
   Point3 center{};
   double radius = 1.0;  ///< m > 0
-  LinearRgb colour{};
+  LinearRgb colour{0.5f, 0.5f, 0.5f};
 };
 
 // ---- Waves ---------------------------------------------------------------------------------------
@@ -160,7 +157,7 @@ struct Sky {
   double turbidity = 3.0;  ///< Preetham turbidity, in [1.7, 10]
 };
 
-struct Camera {
+struct ViewCamera {
   Point3 position{100.0, -20.0, 6.0};
   Point3 look_at{100.0, 80.0, 0.0};
   double vertical_fov_deg = 50.0;  ///< in (0, 180)
@@ -215,7 +212,7 @@ struct Scene {
   std::vector<Sphere> spheres;
   Sun sun{};
   Sky sky{};
-  Camera camera{};
+  ViewCamera camera{};
   Water water{};
   DwtSettings dwt{};
 };

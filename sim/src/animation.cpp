@@ -1,0 +1,119 @@
+#include "houle/sim/animation.hpp"
+
+#include <array>
+#include <chrono>
+
+namespace houle {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+constexpr std::array<std::string_view, 3> quality_names = {"draft", "realtime", "film"};
+
+}  // namespace
+
+std::string_view quality_name(QualityPreset q) noexcept { return quality_names[std::size_t(q)]; }
+
+std::optional<QualityPreset> parse_quality(std::string_view name) noexcept {
+  for (std::size_t i = 0; i < quality_names.size(); ++i) {
+    if (quality_names[i] == name) return QualityPreset(i);
+  }
+  return std::nullopt;
+}
+
+Quality quality_preset(QualityPreset q) noexcept {
+  Quality r;
+  switch (q) {
+    case QualityPreset::draft:
+      r.render.march.step_fraction = 0.5f;
+      r.render.march.refine_iterations = 2;
+      r.render.spectral_absorption = false;
+      r.render.shadows = false;
+      r.surface.levels = 7;
+      r.surface.cells = 128;
+      r.surface.finest_cell = 0.5f;
+      r.sea_cell = 1.0f;
+      break;
+    case QualityPreset::realtime:
+      break;  // the defaults of every knob
+    case QualityPreset::film:
+      r.render.march.step_fraction = 0.1f;
+      r.render.march.refine_iterations = 8;
+      r.render.samples_per_pixel = 8;
+      r.surface.levels = 8;
+      r.surface.cells = 512;
+      r.surface.finest_cell = 0.125f;
+      r.sea_cell = 0.25f;
+      break;
+  }
+  return r;
+}
+
+Expected<Animation> Animation::create(const Scene& scene_in, const Quality& quality, std::uint32_t width,
+                                      std::uint32_t height, unsigned threads) {
+  const auto t0 = Clock::now();
+  Expected<Scene> scene = validate(scene_in);
+  if (!scene) return scene.error();
+  const Scene& s = scene.value();
+
+  CameraParams cp;
+  cp.position = {float(s.camera.position.x), float(s.camera.position.y), float(s.camera.position.z)};
+  cp.look_at = {float(s.camera.look_at.x), float(s.camera.look_at.y), float(s.camera.look_at.z)};
+  cp.vertical_fov = float(s.camera.vertical_fov_deg * 3.14159265358979323846 / 180.0);
+  cp.width = width;
+  cp.height = height;
+  Expected<Camera> camera = make_camera(cp);
+  if (!camera) return Error{"camera", camera.error().message};
+
+  Expected<WaveField> waves = trace_wave_field(s, std::max(threads, 1u));
+  if (!waves) return waves.error();
+  Expected<SeaSurface> sea = SeaSurface::build(s, waves.value(), quality.sea_cell);
+  if (!sea) return sea.error();
+  Expected<SurfaceFrame> surface = SurfaceFrame::create(quality.surface);
+  if (!surface) return Error{"quality.surface", surface.error().message};
+  Expected<Renderer> renderer = Renderer::create(make_render_scene(s), width, height, quality.render, threads);
+  if (!renderer) return Error{"render", renderer.error().message};
+
+  Animation a(std::move(renderer.value()), std::move(surface.value()));
+  a.waves_ = std::make_unique<WaveField>(std::move(waves.value()));
+  a.sea_ = std::make_unique<SeaSurface>(std::move(sea.value()));
+  a.camera_ = camera.value();
+  if (s.capillary.amplitude > 0.0 && s.capillary.max_octaves > 0) {
+    CapillaryParams p;
+    p.amplitude = float(s.capillary.amplitude);
+    p.base_wavelength = float(s.capillary.base_wavelength);
+    p.lacunarity = float(s.capillary.lacunarity);
+    p.max_octaves = s.capillary.max_octaves;
+    p.animation_rate = float(s.capillary.time_scale);
+    Expected<CapillaryFrame> probe = make_capillary_frame(p, 0.0);
+    if (!probe) return Error{"capillary", probe.error().message};
+    a.noise_params_ = p;
+  }
+  a.build_ms_ = ms_since(t0);
+  return a;
+}
+
+void Animation::render(double time_s, Framebuffer& out) noexcept {
+  auto t0 = Clock::now();
+  sea_->set_time(time_s);
+  surface_.begin_frame(camera_.position[0], camera_.position[1]);
+  surface_.fill(&SeaSurface::sample, sea_.get());
+  times_.surface_ms = ms_since(t0);
+  t0 = Clock::now();
+  const CapillaryFrame* noise = nullptr;
+  if (noise_params_) {
+    // Validated in create(): the only failure left would be a non-finite time.
+    if (Expected<CapillaryFrame> f = make_capillary_frame(*noise_params_, time_s)) {
+      noise_ = f.value();
+      noise = &noise_;
+      const float top = float(noise_params_->max_octaves);
+      surface_.set_noise_bounds(capillary_height_bound(*noise_params_, top), capillary_slope_bound(*noise_params_, top));
+    }
+  }
+  times_.noise_ms = ms_since(t0);
+  renderer_.render(surface_, noise, noise ? &*noise_params_ : nullptr, camera_, out);
+  times_.render = renderer_.last_times();
+}
+
+}  // namespace houle
