@@ -37,6 +37,9 @@ void set_ray_params(detail::MarchContext& c, const MarchParams& p, float grid_mi
       c.octave_height[i] = (hi - lo) * (1.0f + 1e-4f);
       c.octave_slope[i] = (shi - slo) * (1.0f + 1e-4f);
       noise_total += c.octave_height[i];
+      // level > i  <=>  log_k(lambda_1 sin / (N cone)) + 1 > i  <=>  cone / sin < (lambda_1 / N) k^(1 - i).
+      c.octave_cone[i] = float(double(np.base_wavelength) / double(np.samples_per_wavelength) *
+                               std::pow(double(np.lacunarity), 1.0 - double(i)) * (1.0 + 1e-3));
       top = std::max(top, c.octave_height[i]);
     }
     const double log2_k = std::log2(double(np.lacunarity));
@@ -74,14 +77,10 @@ detail::MarchContext make_context(const SurfaceFrame& frame, const MarchParams& 
     c.level_origin_x[l] = v.level[l].origin_x;
     c.level_origin_y[l] = v.level[l].origin_y;
   }
-  c.level_origin_x[v.levels] = c.level_origin_x[v.levels - 1];
-  c.level_origin_y[v.levels] = c.level_origin_y[v.levels - 1];
   const SurfaceLevel& l0 = v.level[0];
   c.inv_cell0 = float(1.0 / double(l0.cell));
   c.tile_size0 = l0.cell * float(v.tile_cells);
   c.reach0 = l0.reach;
-  c.band_start0 = float((1.0 - double(v.blend_fraction)) * l0.reach);
-  c.inv_band0 = float(1.0 / (double(v.blend_fraction) * l0.reach));
   c.level_floats = float(v.level_floats);
   c.level_tiles = float(std::size_t(v.tiles_per_side) * v.tiles_per_side);
   c.global = v.global;
@@ -142,7 +141,7 @@ float MarchProbe::f(float ox, float oy, float oz, float dx, float dy, float dz, 
   using S = simd::scalar;
   bool finite = false;
   const detail::MarchRay<S> r = detail::make_march_ray<S>(*c_, ox, oy, oz, dx, dy, dz, finite);
-  return detail::full_g<S>(*c_, r, t, 1.0f, true);
+  return detail::full_g<S>(*c_, r, t, 1.0f);
 }
 
 float MarchProbe::noise_level(float dz, float t) const noexcept {
@@ -153,10 +152,28 @@ float MarchProbe::noise_level(float dz, float t) const noexcept {
   return detail::noise_level<S>(*c_, r.level_offset, c_->cone_width + t * c_->pixel_angle);
 }
 
+float MarchProbe::noise_height_bound(float dz, float t) const noexcept {
+  using S = simd::scalar;
+  bool finite = false;
+  const detail::MarchRay<S> r = detail::make_march_ray<S>(*c_, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, dz, finite);
+  float h = 0.0f, g = 0.0f;
+  detail::noise_bounds<S>(*c_, (c_->cone_width + t * c_->pixel_angle) * r.inv_sin, h, g);
+  return h;
+}
+
+float MarchProbe::noise_slope_bound(float dz, float t) const noexcept {
+  using S = simd::scalar;
+  bool finite = false;
+  const detail::MarchRay<S> r = detail::make_march_ray<S>(*c_, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, dz, finite);
+  float h = 0.0f, g = 0.0f;
+  detail::noise_bounds<S>(*c_, (c_->cone_width + t * c_->pixel_angle) * r.inv_sin, h, g);
+  return g;
+}
+
 float MarchProbe::grid_height(float x, float y) const noexcept {
   using S = simd::scalar;
   const detail::Located<S> s = detail::locate<S>(*c_, x, y);
-  return detail::blended<S>(*c_, c_->height, s, true, x, y, c_->far_height);
+  return detail::grid_field<S>(*c_, c_->height, s, c_->far_height);
 }
 
 float MarchProbe::slab_min() const noexcept { return c_->z_lo; }
@@ -166,7 +183,7 @@ float SurfaceFrame::height_at(float x, float y) const noexcept {
   using S = simd::scalar;
   const detail::MarchContext c = make_context(*this, MarchParams{});
   const detail::Located<S> s = detail::locate<S>(c, x, y);
-  return detail::blended<S>(c, c.height, s, true, x, y, c.far_height);
+  return detail::grid_field<S>(c, c.height, s, c.far_height);
 }
 
 }  // namespace houle

@@ -26,18 +26,14 @@ struct MarchContext {
   float tiles_per_side = 0.0f;
   float inv_tile_cells = 0.0f;  ///< exact: tile_cells is a power of two
   float centre_x = 0.0f, centre_y = 0.0f, far_height = 0.0f;
-  // Levels. Level l's cell, tile, reach and blend band are level 0's times 2^l (exact in float), so a
-  // lane computes them from its level index; only the origins are looked up.
+  // Levels. Level l's cell, tile and reach are level 0's times 2^l (exact in float), so a lane computes
+  // them from its level index; only the origins are looked up.
   float level_reach[SurfaceFrame::max_levels] = {};  ///< m, Chebyshev radius about the centre
-  /// m, node (0, 0) of each level; levels + 1 entries, the extra one repeating the last (the partner
-  /// level read, unused, on the last level).
-  float level_origin_x[SurfaceFrame::max_levels + 1] = {};
-  float level_origin_y[SurfaceFrame::max_levels + 1] = {};
+  float level_origin_x[SurfaceFrame::max_levels] = {};  ///< m, node (0, 0) of each level
+  float level_origin_y[SurfaceFrame::max_levels] = {};
   float inv_cell0 = 0.0f;     ///< 1/m
   float tile_size0 = 0.0f;    ///< m
   float reach0 = 0.0f;        ///< m
-  float band_start0 = 0.0f;   ///< m, where level 0 starts fading into level 1
-  float inv_band0 = 0.0f;     ///< 1 / band width of level 0
   float level_floats = 0.0f;  ///< floats between levels in the node arrays (exact, < 2^24)
   float level_tiles = 0.0f;   ///< tiles per level
   TileBounds global{};          ///< grid only
@@ -54,6 +50,9 @@ struct MarchContext {
   std::uint32_t octaves = 0;
   float octave_height[CapillaryFrame::max_octaves] = {};
   float octave_slope[CapillaryFrame::max_octaves] = {};
+  /// Octave i can have weight (level > i) only while cone width / sin(grazing) < octave_cone[i]
+  /// (= (lambda_1 / N) k^(1 - i), times 1 + 1e-3 so that the float level never disagrees).
+  float octave_cone[CapillaryFrame::max_octaves] = {};
   float max_level = 0.0f;           ///< n_max
   float level_offset = 0.0f;        ///< log2(lambda_1 / N) / log2(k) + 1: level = offset + (log2 sin - log2 footprint) / log2 k
   float inv_log2_lacunarity = 0.0f;

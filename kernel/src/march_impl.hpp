@@ -197,18 +197,17 @@ HOULE_MARCH_INLINE simd::vfloat<A> bilinear(const float* field, std::size_t stri
   return a + t.fv * (b - a);
 }
 
-/// The level choice at a point: level l for reach_{l-1} < r <= reach_l, r the Chebyshev distance to
-/// the centre; beyond the last reach, the far plane.
+/// The level read at a point: level l for reach_{l-1} < r <= reach_l, r the Chebyshev distance to the
+/// centre; beyond the last reach, the far plane. (The SurfaceFrame morphs each level's outer band into
+/// the next level, so one level is read per sample and H is still continuous.)
 template <class A>
 struct Located {
   using V = simd::vfloat<A>;
   using M = simd::vmask<A>;
-  V level;        ///< index of the level read (the last one for far lanes)
-  V w;            ///< blend weight toward the next level, 0 outside the band and beyond the last level
-  M far;          ///< beyond the last level: the far plane
-  M next_far;     ///< the blend partner is the far plane (on the last level)
-  V ox, oy, scale, inv_scale;  ///< the level's origin, 2^level, 2^-level
-  V nox, noy;                  ///< the partner level's origin (the last level's again on the last level)
+  V level;     ///< index of the level read (the last one for far lanes)
+  M far;       ///< beyond the last level: the far plane
+  V ox, oy;    ///< the level's origin
+  V scale;     ///< 2^level
   GridTap<A> tap;
 };
 
@@ -217,52 +216,29 @@ HOULE_MARCH_INLINE Located<A> locate(const MarchContext& c, simd::vfloat<A> px, 
   using V = simd::vfloat<A>;
   Located<A> s;
   const V r = vmax<A>(simd::abs(px - c.centre_x), simd::abs(py - c.centre_y));
-  // The level is the number of reaches below r (they grow with the level); its origin and the
-  // partner's follow in the same chain of selects (cheaper than gathers from the little tables).
+  // The level is the number of reaches below r (they grow with the level); its origin follows in the
+  // same chain of selects (cheaper than gathers from the little tables).
   V level(0.0f);
   s.ox = V(c.level_origin_x[0]);
   s.oy = V(c.level_origin_y[0]);
-  s.nox = V(c.level_origin_x[1]);
-  s.noy = V(c.level_origin_y[1]);
   for (std::uint32_t k = 0; k + 1 < c.levels; ++k) {
     const auto beyond = r > c.level_reach[k];
     level = level + simd::select(beyond, V(1.0f), V(0.0f));
     s.ox = simd::select(beyond, V(c.level_origin_x[k + 1]), s.ox);
     s.oy = simd::select(beyond, V(c.level_origin_y[k + 1]), s.oy);
-    s.nox = simd::select(beyond, V(c.level_origin_x[k + 2]), s.nox);
-    s.noy = simd::select(beyond, V(c.level_origin_y[k + 2]), s.noy);
   }
-  const float last = static_cast<float>(c.levels - 1);
   s.far = r > c.level_reach[c.levels - 1];
   s.level = level;
-  s.next_far = s.level >= last;
-  s.scale = march_pow2<A>(s.level);
-  s.inv_scale = march_pow2<A>(V(0.0f) - s.level);
-  V x = (r - c.band_start0 * s.scale) * (c.inv_band0 * s.inv_scale);
-  x = simd::select(x > 0.0f, x, V(0.0f));
-  x = simd::select(x < 1.0f, x, V(1.0f));
-  s.w = simd::select(s.far, V(0.0f), x * x * (3.0f - 2.0f * x));
-  s.tap = grid_tap<A>(c, px, py, s.ox, s.oy, c.inv_cell0 * s.inv_scale, s.level * c.level_floats);
+  s.scale = march_pow2<A>(level);
+  s.tap = grid_tap<A>(c, px, py, s.ox, s.oy, c.inv_cell0 * march_pow2<A>(V(0.0f) - level), level * c.level_floats);
   return s;
 }
 
-/// A field (height, grad_x or grad_y) of the LOD-blended grid at a located point; `far_value` beyond.
+/// A field (height, grad_x or grad_y) of the grid at a located point; `far_value` beyond the levels.
 template <class A>
-HOULE_MARCH_INLINE simd::vfloat<A> blended(const MarchContext& c, const float* field, const Located<A>& s,
-                               simd::vmask<A> active, simd::vfloat<A> px, simd::vfloat<A> py, float far_value) {
-  using V = simd::vfloat<A>;
-  const V h = bilinear<A>(field, c.stride, s.tap);
-  V out = h;
-  const auto band = s.w > 0.0f;
-  if (simd::any(band & active)) {
-    // On the last level the partner is the far plane: read the last level again (in bounds), unused.
-    const V next = simd::select(s.next_far, s.level, s.level + 1.0f);
-    const GridTap<A> nt =
-        grid_tap<A>(c, px, py, s.nox, s.noy, c.inv_cell0 * march_pow2<A>(V(0.0f) - next), next * c.level_floats);
-    const V partner = simd::select(s.next_far, V(far_value), bilinear<A>(field, c.stride, nt));
-    out = simd::select(band, h + s.w * (partner - h), h);
-  }
-  return simd::select(s.far, V(far_value), out);
+HOULE_MARCH_INLINE simd::vfloat<A> grid_field(const MarchContext& c, const float* field, const Located<A>& s,
+                                              float far_value) {
+  return simd::select(s.far, simd::vfloat<A>(far_value), bilinear<A>(field, c.stride, s.tap));
 }
 
 /// Bounds valid from the point along the ray up to s_box (m along the ray).
@@ -271,21 +247,36 @@ struct StepBounds {
   simd::vfloat<A> h_min, h_max, slope_x, slope_y, s_box;
 };
 
+/// The tile bounds last gathered, per lane, and which tile they belong to (-1: none yet).
 template <class A>
-HOULE_MARCH_INLINE StepBounds<A> step_bounds(const MarchContext& c, const Located<A>& s, simd::vfloat<A> px, simd::vfloat<A> py,
-                                 simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> inv_dx,
-                                 simd::vfloat<A> inv_dy) {
+struct TileCache {
+  simd::vfloat<A> key = simd::vfloat<A>(-1.0f);  // (not braces: a batch's braces are an initializer list)
+  StepBounds<A> bounds = {simd::vfloat<A>(0.0f), simd::vfloat<A>(0.0f), simd::vfloat<A>(0.0f), simd::vfloat<A>(0.0f),
+                          simd::vfloat<A>(0.0f)};
+};
+
+template <class A>
+HOULE_MARCH_INLINE StepBounds<A> step_bounds(const MarchContext& c, const Located<A>& s, simd::vfloat<A> px,
+                                              simd::vfloat<A> py, simd::vfloat<A> dx, simd::vfloat<A> dy,
+                                              simd::vfloat<A> inv_dx, simd::vfloat<A> inv_dy, simd::vmask<A> active,
+                                              TileCache<A>& cache) {
   using V = simd::vfloat<A>;
   const V big(1e30f);
   const V ti = march_floor<A>(s.tap.iu * c.inv_tile_cells), tj = march_floor<A>(s.tap.iv * c.inv_tile_cells);
-  const MarchIndex<A> k = march_index<A>(s.level * c.level_tiles + tj * c.tiles_per_side + ti);
-  StepBounds<A> b;
-  b.h_min = march_gather<A>(c.tile_min, k);
-  b.h_max = march_gather<A>(c.tile_max, k);
-  b.slope_x = march_gather<A>(c.tile_slope_x, k);
-  b.slope_y = march_gather<A>(c.tile_slope_y, k);
+  const V key = s.level * c.level_tiles + tj * c.tiles_per_side + ti;
+  // A ray takes several steps per tile: gather only when some active lane has moved to another tile
+  // (lanes that have not get the same values again, so the result does not depend on the packet).
+  if (simd::any(active & (key != cache.key))) {
+    const MarchIndex<A> k = march_index<A>(key);
+    cache.key = key;
+    cache.bounds.h_min = march_gather<A>(c.tile_min, k);
+    cache.bounds.h_max = march_gather<A>(c.tile_max, k);
+    cache.bounds.slope_x = march_gather<A>(c.tile_slope_x, k);
+    cache.bounds.slope_y = march_gather<A>(c.tile_slope_y, k);
+  }
+  StepBounds<A> b = cache.bounds;
   // The tile, clipped to the level's reach (beyond it a coarser level's bounds apply).
-  const V tile = c.tile_size0 * s.scale, reach = c.reach0 * s.scale;
+  const V tile = c.tile_size0 * s.scale, reach = c.reach0 * s.scale;  // exact: powers of two
   const V x0 = s.ox + ti * tile, y0 = s.oy + tj * tile;
   const V x_lo = vmax<A>(x0, c.centre_x - reach), x_hi = vmin<A>(x0 + tile, c.centre_x + reach);
   const V y_lo = vmax<A>(y0, c.centre_y - reach), y_hi = vmin<A>(y0 + tile, c.centre_y + reach);
@@ -321,14 +312,18 @@ HOULE_MARCH_INLINE simd::vfloat<A> noise_level(const MarchContext& c, simd::vflo
   return simd::select(l < c.max_level, l, V(c.max_level));
 }
 
+/// Height and slope bounds of the noise at a sample whose cone width is `cone_per_sin` times the
+/// ray's sin(grazing): octave i counts while it can have weight (level > i), i.e. while the footprint
+/// is below its threshold (octave_cone, widened a little so that rounding of the level never leaves
+/// an octave out). Both fall as the ray goes on, so they hold for the rest of a step. No logarithm.
 template <class A>
-HOULE_MARCH_INLINE void noise_bounds(const MarchContext& c, simd::vfloat<A> level, simd::vfloat<A>& height, simd::vfloat<A>& slope) {
+HOULE_MARCH_INLINE void noise_bounds(const MarchContext& c, simd::vfloat<A> cone_per_sin, simd::vfloat<A>& height,
+                                     simd::vfloat<A>& slope) {
   using V = simd::vfloat<A>;
   height = V(0.0f);
   slope = V(0.0f);
   for (std::uint32_t i = 0; i < c.octaves; ++i) {
-    // Octave i has weight W_i(level) <= 1, and 0 unless level > i.
-    const auto on = level > static_cast<float>(i);
+    const auto on = cone_per_sin < c.octave_cone[i];
     height = height + simd::select(on, V(c.octave_height[i]), V(0.0f));
     slope = slope + simd::select(on, V(c.octave_slope[i]), V(0.0f));
   }
@@ -349,7 +344,7 @@ HOULE_MARCH_INLINE CapillaryPoint<A> noise_point(const CapillaryFrame& f, simd::
 template <class A>
 struct MarchRay {
   using V = simd::vfloat<A>;
-  V ox, oy, oz, dx, dy, dz, adx, ady, adz, inv_dx, inv_dy, level_offset;
+  V ox, oy, oz, dx, dy, dz, adx, ady, adz, inv_dx, inv_dy, level_offset, inv_sin;
 };
 
 /// Per-ray constants. Non-finite rays (x - x != 0 for inf and NaN) become inert (`finite` false).
@@ -374,21 +369,23 @@ inline MarchRay<A> make_march_ray(const MarchContext& c, simd::vfloat<A> ox, sim
   r.inv_dx = simd::div(one, simd::select(r.dx == zero, one, r.dx));
   r.inv_dy = simd::div(one, simd::select(r.dy == zero, one, r.dy));
   r.level_offset = zero;
+  r.inv_sin = zero;
   if (c.noise != nullptr) {
     const V sin_grazing = simd::select(r.adz > 1e-3f, r.adz, V(1e-3f));
     r.level_offset = c.level_offset + march_log2<A>(sin_grazing) * c.inv_log2_lacunarity;
+    r.inv_sin = simd::div(one, sin_grazing);
   }
   return r;
 }
 
 /// The full (noise included) f at distance t, times sigma.
 template <class A>
-HOULE_MARCH_INLINE simd::vfloat<A> full_g(const MarchContext& c, const MarchRay<A>& r, simd::vfloat<A> t, simd::vfloat<A> sigma,
-                              simd::vmask<A> active) {
+HOULE_MARCH_INLINE simd::vfloat<A> full_g(const MarchContext& c, const MarchRay<A>& r, simd::vfloat<A> t,
+                                          simd::vfloat<A> sigma) {
   using V = simd::vfloat<A>;
   const V px = r.ox + t * r.dx, py = r.oy + t * r.dy, pz = r.oz + t * r.dz;
   const Located<A> s = locate<A>(c, px, py);
-  V f = pz - blended<A>(c, c.height, s, active, px, py, c.far_height);
+  V f = pz - grid_field<A>(c, c.height, s, c.far_height);
   if (c.noise != nullptr) {
     const V level = noise_level<A>(c, r.level_offset, c.cone_width + t * c.pixel_angle);
     f = f - noise_height<A>(*c.noise, px, py, level);
@@ -427,25 +424,29 @@ inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, si
   V t = simd::select(active, t_in, zero);
   V sigma = one, t_prev = t, g_prev = zero, a = zero, ga = zero, b = zero, gb = zero, evaluations = zero;
   M crossed(false);
+  TileCache<A> tiles;
   for (std::int32_t it = 0; it < c.max_steps && simd::any(active); ++it) {
     const V px = r.ox + t * r.dx, py = r.oy + t * r.dy, pz = r.oz + t * r.dz;
     const Located<A> s = locate<A>(c, px, py);
-    const V f_grid = pz - blended<A>(c, c.height, s, active, px, py, c.far_height);
+    const V f_grid = pz - grid_field<A>(c, c.height, s, c.far_height);
     const V cone = c.cone_width + t * c.pixel_angle;
     // g: sigma f when it is known; outside the noise envelope a bound with the right sign.
     V g, g_env, noise_h = zero, noise_s = zero, level_term = zero;
     M near(true);
     if (noise) {
-      const V level = noise_level<A>(c, r.level_offset, cone);
-      noise_bounds<A>(c, level, noise_h, noise_s);
+      noise_bounds<A>(c, cone * r.inv_sin, noise_h, noise_s);
       near = simd::abs(f_grid) <= noise_h;
       V f = f_grid;
-      if (simd::any(active & near)) f = simd::select(near, f_grid - noise_height<A>(*c.noise, px, py, level), f_grid);
+      if (simd::any(active & near)) {
+        // Inside the envelope: the noise itself, at the sample's level.
+        const V level = noise_level<A>(c, r.level_offset, cone);
+        f = simd::select(near, f_grid - noise_height<A>(*c.noise, px, py, level), f_grid);
+        // The level falls along the ray; its change moves the noise by at most this much per m.
+        level_term = simd::div(V(c.level_rate * c.pixel_angle), vmax<A>(cone, V(1e-20f)));
+      }
       if (it == 0) sigma = simd::select(f >= zero, one, V(-1.0f));
       g_env = sigma * f_grid - noise_h;
       g = simd::select(near, sigma * f, g_env);
-      // The level falls along the ray; its change moves the noise by at most this much per m.
-      level_term = simd::div(V(c.level_rate * c.pixel_angle), vmax<A>(cone, V(1e-20f)));
     } else {
       if (it == 0) sigma = simd::select(f_grid >= zero, one, V(-1.0f));
       g = sigma * f_grid;
@@ -465,7 +466,7 @@ inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, si
 
     // The step: the largest distance that provably holds no crossing, within the bounds' box, but at
     // least delta.
-    const StepBounds<A> bd = step_bounds<A>(c, s, px, py, r.dx, r.dy, r.inv_dx, r.inv_dy);
+    const StepBounds<A> bd = step_bounds<A>(c, s, px, py, r.dx, r.dy, r.inv_dx, r.inv_dy, active, tiles);
     const V lip = vmax<A>(r.adz + bd.slope_x * r.adx + bd.slope_y * r.ady, V(1e-30f));
     V safe = simd::select(g_env > zero, simd::div(g_env, lip), zero);
     if (noise) {
@@ -491,7 +492,7 @@ inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, si
       const V den = ga - gb;
       V m = simd::select(den > zero, a + (b - a) * simd::div(ga, simd::select(den > zero, den, one)), a);
       m = vmax<A>(vmin<A>(m, b), a);
-      const V gm = full_g<A>(c, r, m, sigma, crossed);
+      const V gm = full_g<A>(c, r, m, sigma);
       const M rb = crossed & (gm <= zero), ra = crossed & !(gm <= zero);
       ga = simd::select(rb & (side > zero), ga * 0.5f, ga);  // b kept twice: halve the stale end's value
       gb = simd::select(ra & (side < zero), gb * 0.5f, gb);
@@ -516,10 +517,10 @@ inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, si
   out.grad_y = zero;
   out.level = zero;
   if (simd::any(crossed)) {
-    // The eq. 8 normal: gradients add. Grid gradients are interpolated and blended like the heights.
+    // The eq. 8 normal: gradients add. Grid gradients are interpolated (and morphed) like the heights.
     const Located<A> s = locate<A>(c, out.x, out.y);
-    V gx = blended<A>(c, c.grad_x, s, crossed, out.x, out.y, 0.0f);
-    V gy = blended<A>(c, c.grad_y, s, crossed, out.x, out.y, 0.0f);
+    V gx = grid_field<A>(c, c.grad_x, s, 0.0f);
+    V gy = grid_field<A>(c, c.grad_y, s, 0.0f);
     if (noise) {
       const V level = noise_level<A>(c, r.level_offset, c.cone_width + out.t * c.pixel_angle);
       const CapillaryPoint<A> n = noise_point<A>(*c.noise, out.x, out.y, level);

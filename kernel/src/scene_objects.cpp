@@ -78,9 +78,8 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
     }
     if (!std::isfinite(b.yaw_rad)) return Error{field + ".yaw_rad", "a finite angle in rad"};
     if (!reflectance_ok(b.colour)) return Error{field + ".colour", "a diffuse reflectance, each channel in [0, 1]"};
-    const double hx = b.half_extent[0], hy = b.half_extent[1], hz = b.half_extent[2];
-    s.boxes_.push_back({b.center[0], b.center[1], b.center[2], hx, hy, hz, std::cos(double(b.yaw_rad)),
-                        std::sin(double(b.yaw_rad)), (hx * hx + hy * hy + hz * hz) * (1.0 + 1e-9), b.colour});
+    s.boxes_.push_back({b.center[0], b.center[1], b.center[2], b.half_extent[0], b.half_extent[1], b.half_extent[2],
+                        std::cos(double(b.yaw_rad)), std::sin(double(b.yaw_rad)), b.colour});
   }
   for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
     const RenderSphere& sp = scene.spheres[k];
@@ -90,6 +89,8 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
     if (!reflectance_ok(sp.colour)) return Error{field + ".colour", "a diffuse reflectance, each channel in [0, 1]"};
     s.spheres_.push_back({sp.center[0], sp.center[1], sp.center[2], sp.radius, sp.colour});
   }
+
+  s.build_bvh();
 
   const FloorGrid& f = scene.floor;
   if (!reflectance_ok(f.sand)) return Error{"floor.sand", "a diffuse reflectance, each channel in [0, 1]"};
@@ -153,6 +154,84 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
     }
   }
   return s;
+}
+
+void SceneObjects::build_bvh() {
+  // Bounds of every primitive (the yawed box's footprint, a sphere's cube), widened a little so that
+  // float bounds stay conservative for the double tests.
+  struct Prim {
+    std::uint32_t id;
+    float lo[3], hi[3], centre[3];
+  };
+  std::vector<Prim> prims;
+  const auto add = [&](std::uint32_t id, double cx, double cy, double cz, double ex, double ey, double ez) {
+    Prim p{id, {}, {}, {}};
+    const double c[3] = {cx, cy, cz}, e[3] = {ex, ey, ez};
+    for (int a = 0; a < 3; ++a) {
+      const double pad = 1e-4 * (std::abs(c[a]) + e[a]) + 1e-4;
+      p.lo[a] = float(c[a] - e[a] - pad);
+      p.hi[a] = float(c[a] + e[a] + pad);
+      p.centre[a] = float(c[a]);
+    }
+    prims.push_back(p);
+  };
+  for (std::size_t k = 0; k < boxes_.size(); ++k) {
+    const Box& b = boxes_[k];
+    const double ac = std::abs(b.cos_yaw), as = std::abs(b.sin_yaw);
+    add(std::uint32_t(k), b.cx, b.cy, b.cz, ac * b.hx + as * b.hy, as * b.hx + ac * b.hy, b.hz);
+  }
+  for (std::size_t k = 0; k < spheres_.size(); ++k) {
+    const Sphere& sp = spheres_[k];
+    add(std::uint32_t(k) | sphere_bit, sp.cx, sp.cy, sp.cz, sp.radius, sp.radius, sp.radius);
+  }
+  nodes_.clear();
+  primitives_.clear();
+  if (prims.empty()) return;
+  // Median split on the longest axis of the centres, leaves of up to two primitives: the tree's depth
+  // is log2 of the count, far below max_bvh_depth for any scene that fits in memory.
+  nodes_.reserve(2 * prims.size());
+  struct Task {
+    std::uint32_t node, begin, end;
+  };
+  std::vector<Task> todo{{0, 0, std::uint32_t(prims.size())}};
+  nodes_.push_back({});
+  while (!todo.empty()) {
+    const Task t = todo.back();
+    todo.pop_back();
+    Node nd;
+    float clo[3] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+                    std::numeric_limits<float>::infinity()};
+    float chi[3] = {-clo[0], -clo[1], -clo[2]};
+    for (int a = 0; a < 3; ++a) nd.lo[a] = clo[a], nd.hi[a] = chi[a];
+    for (std::uint32_t k = t.begin; k < t.end; ++k) {
+      for (int a = 0; a < 3; ++a) {
+        nd.lo[a] = std::min(nd.lo[a], prims[k].lo[a]);
+        nd.hi[a] = std::max(nd.hi[a], prims[k].hi[a]);
+        clo[a] = std::min(clo[a], prims[k].centre[a]);
+        chi[a] = std::max(chi[a], prims[k].centre[a]);
+      }
+    }
+    if (t.end - t.begin <= 2) {
+      nd.first = std::uint32_t(primitives_.size());
+      nd.count = t.end - t.begin;
+      for (std::uint32_t k = t.begin; k < t.end; ++k) primitives_.push_back(prims[k].id);
+    } else {
+      int axis = 0;
+      for (int a = 1; a < 3; ++a) {
+        if (chi[a] - clo[a] > chi[axis] - clo[axis]) axis = a;
+      }
+      const std::uint32_t mid = t.begin + (t.end - t.begin) / 2;
+      std::nth_element(prims.begin() + t.begin, prims.begin() + mid, prims.begin() + t.end,
+                       [axis](const Prim& x, const Prim& y) { return x.centre[axis] < y.centre[axis]; });
+      nd.first = std::uint32_t(nodes_.size());
+      nd.count = 0;
+      nodes_.push_back({});
+      nodes_.push_back({});
+      todo.push_back({nd.first, t.begin, mid});
+      todo.push_back({nd.first + 1, mid, t.end});
+    }
+    nodes_[t.node] = nd;
+  }
 }
 
 float SceneObjects::sample(std::int64_t i, std::int64_t j) const noexcept {
@@ -280,63 +359,103 @@ bool SceneObjects::hit_cell(FloorQuery& q, std::int64_t i, std::int64_t j, doubl
   return true;
 }
 
-SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_max) const noexcept {
-  SurfaceHit hit;
-  double best = t_max;
-  for (std::size_t k = 0; k < boxes_.size(); ++k) {
-    const Box& b = boxes_[k];
-    const double px = r.ox - b.cx, py = r.oy - b.cy, pz = r.oz - b.cz;
-    {
-      // Most rays pass far from a box: its bounding sphere rejects them with a few products.
-      const double bd = px * r.dx + py * r.dy + pz * r.dz, bc = px * px + py * py + pz * pz - b.radius2;
-      if (bc > 0.0 && (bd > 0.0 || bd * bd < bc)) continue;
+bool SceneObjects::hit_box(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept {
+  const Box& b = boxes_[k];
+  const double px = r.ox - b.cx, py = r.oy - b.cy, pz = r.oz - b.cz;
+  // Into the box's frame: local x along (cos, sin), y along (-sin, cos).
+  const double l[3] = {b.cos_yaw * px + b.sin_yaw * py, -b.sin_yaw * px + b.cos_yaw * py, pz};
+  const double d[3] = {b.cos_yaw * r.dx + b.sin_yaw * r.dy, -b.sin_yaw * r.dx + b.cos_yaw * r.dy, r.dz};
+  const double h[3] = {b.hx, b.hy, b.hz};
+  double t_near = -inf, t_far = inf;
+  int axis_near = 0, axis_far = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (std::abs(l[a]) > h[a]) return false;
+      continue;
     }
-    // Into the box's frame: local x along (cos, sin), y along (-sin, cos).
-    const double l[3] = {b.cos_yaw * px + b.sin_yaw * py, -b.sin_yaw * px + b.cos_yaw * py, pz};
-    const double d[3] = {b.cos_yaw * r.dx + b.sin_yaw * r.dy, -b.sin_yaw * r.dx + b.cos_yaw * r.dy, r.dz};
-    const double h[3] = {b.hx, b.hy, b.hz};
-    double t_near = -inf, t_far = inf;
-    int axis_near = 0, axis_far = 0;
-    bool miss = false;
-    for (int a = 0; a < 3 && !miss; ++a) {
-      if (d[a] == 0.0) {
-        miss = std::abs(l[a]) > h[a];
-        continue;
-      }
-      double t1 = (-h[a] - l[a]) / d[a], t2 = (h[a] - l[a]) / d[a];
-      if (t1 > t2) std::swap(t1, t2);
-      if (t1 > t_near) t_near = t1, axis_near = a;
-      if (t2 < t_far) t_far = t2, axis_far = a;
-    }
-    if (miss || t_near > t_far) continue;
-    // From outside the near face; from inside (a camera in a box) the far face.
-    const bool outside = t_near >= t_min;
-    const double t = outside ? t_near : t_far;
-    if (!(t >= t_min && t < best)) continue;
-    const int axis = outside ? axis_near : axis_far;
-    const double sign = (d[axis] > 0.0) == outside ? -1.0 : 1.0;
-    std::array<double, 3> n{0.0, 0.0, 0.0};
-    if (axis == 0) n = {b.cos_yaw * sign, b.sin_yaw * sign, 0.0};
-    if (axis == 1) n = {-b.sin_yaw * sign, b.cos_yaw * sign, 0.0};
-    if (axis == 2) n = {0.0, 0.0, sign};
-    best = t;
-    hit = {float(t), HitKind::box, std::uint32_t(k), {float(n[0]), float(n[1]), float(n[2])}};
+    double t1 = (-h[a] - l[a]) / d[a], t2 = (h[a] - l[a]) / d[a];
+    if (t1 > t2) std::swap(t1, t2);
+    if (t1 > t_near) t_near = t1, axis_near = a;
+    if (t2 < t_far) t_far = t2, axis_far = a;
   }
-  for (std::size_t k = 0; k < spheres_.size(); ++k) {
-    const Sphere& sp = spheres_[k];
-    const double px = r.ox - sp.cx, py = r.oy - sp.cy, pz = r.oz - sp.cz;
-    const double b = px * r.dx + py * r.dy + pz * r.dz;
-    const double c = px * px + py * py + pz * pz - sp.radius * sp.radius;
-    const double disc = b * b - c;
-    if (!(disc >= 0.0)) continue;
-    const double q = std::sqrt(disc);
-    double t = -b - q;
-    if (t < t_min) t = -b + q;
-    if (!(t >= t_min && t < best)) continue;
-    const double inv = 1.0 / sp.radius;
-    best = t;
-    hit = {float(t), HitKind::sphere, std::uint32_t(k),
-           {float((px + t * r.dx) * inv), float((py + t * r.dy) * inv), float((pz + t * r.dz) * inv)}};
+  if (t_near > t_far) return false;
+  // From outside the near face; from inside (a camera in a box) the far face.
+  const bool outside = t_near >= t_min;
+  const double t = outside ? t_near : t_far;
+  if (!(t >= t_min && t < best)) return false;
+  const int axis = outside ? axis_near : axis_far;
+  const double sign = (d[axis] > 0.0) == outside ? -1.0 : 1.0;
+  std::array<double, 3> n{0.0, 0.0, sign};
+  if (axis == 0) n = {b.cos_yaw * sign, b.sin_yaw * sign, 0.0};
+  if (axis == 1) n = {-b.sin_yaw * sign, b.cos_yaw * sign, 0.0};
+  best = t;
+  hit = {float(t), HitKind::box, k, {float(n[0]), float(n[1]), float(n[2])}};
+  return true;
+}
+
+bool SceneObjects::hit_sphere(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept {
+  const Sphere& sp = spheres_[k];
+  const double px = r.ox - sp.cx, py = r.oy - sp.cy, pz = r.oz - sp.cz;
+  const double b = px * r.dx + py * r.dy + pz * r.dz;
+  const double c = px * px + py * py + pz * pz - sp.radius * sp.radius;
+  const double disc = b * b - c;
+  if (!(disc >= 0.0)) return false;
+  const double q = std::sqrt(disc);
+  double t = -b - q;
+  if (t < t_min) t = -b + q;
+  if (!(t >= t_min && t < best)) return false;
+  const double inv = 1.0 / sp.radius;
+  best = t;
+  hit = {float(t), HitKind::sphere, k,
+         {float((px + t * r.dx) * inv), float((py + t * r.dy) * inv), float((pz + t * r.dz) * inv)}};
+  return true;
+}
+
+SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_max, bool any) const noexcept {
+  SurfaceHit hit;
+  if (nodes_.empty()) return hit;
+  double best = t_max;
+  const double inv[3] = {1.0 / r.dx, 1.0 / r.dy, 1.0 / r.dz};  // +-inf on an axis the ray does not move along
+  const double o[3] = {r.ox, r.oy, r.oz};
+  // Entry distance of the ray into a node's box within [t_min, best], or +inf.
+  const auto enter = [&](const Node& nd) {
+    double t0 = t_min, t1 = best;
+    for (int a = 0; a < 3; ++a) {
+      double ta = (double(nd.lo[a]) - o[a]) * inv[a], tb = (double(nd.hi[a]) - o[a]) * inv[a];
+      if (ta > tb) std::swap(ta, tb);
+      // A ray parallel to a slab gives NaN (0 * inf) on its plane: the max/min below ignore it, keeping
+      // the node (conservative).
+      t0 = ta > t0 ? ta : t0;
+      t1 = tb < t1 ? tb : t1;
+    }
+    return t0 <= t1 ? t0 : inf;
+  };
+  std::uint32_t stack[max_bvh_depth];
+  int top = 0;
+  if (enter(nodes_[0]) == inf) return hit;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& nd = nodes_[stack[--top]];
+    if (nd.count > 0) {
+      for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
+        const std::uint32_t id = primitives_[k];
+        const bool found = id & sphere_bit ? hit_sphere(id & ~sphere_bit, r, t_min, best, hit)
+                                           : hit_box(id, r, t_min, best, hit);
+        if (found && any) return hit;
+      }
+      continue;
+    }
+    // Visit the nearer child first: the farther one is often culled by the shrunken `best` then.
+    const std::uint32_t a = nd.first, b = nd.first + 1;
+    const double ta = enter(nodes_[a]), tb = enter(nodes_[b]);
+    if (top + 2 > max_bvh_depth) break;  // cannot happen: the median split's depth is log2 of the count
+    if (ta <= tb) {
+      if (tb != inf) stack[top++] = b;
+      if (ta != inf) stack[top++] = a;
+    } else {
+      if (ta != inf) stack[top++] = a;
+      if (tb != inf) stack[top++] = b;
+    }
   }
   return hit;
 }
@@ -351,8 +470,8 @@ SurfaceHit SceneObjects::intersect(const SceneRay& r, double t_min, double t_max
 }
 
 bool SceneObjects::occluded(const SceneRay& r, double t_min, double t_max, bool floor) const noexcept {
-  // The objects are few and cheap next to the floor walk: test them first.
-  if (hit_objects(r, t_min, t_max).kind != HitKind::none) return true;
+  // The objects are cheap next to the floor walk: test them first.
+  if (hit_objects(r, t_min, t_max, true).kind != HitKind::none) return true;
   return floor && floor_hit(r, t_min, t_max, -inf, nullptr) < t_max;
 }
 

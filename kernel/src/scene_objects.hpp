@@ -1,8 +1,9 @@
 // The renderer's non-sea geometry: oriented boxes, spheres and the floor height grid (sea bed and
 // land), with nearest-hit and any-hit (shadow) queries for one ray at a time. Built once per scene;
-// queries allocate nothing and are exact (closed forms; the floor's bilinear cells are solved as
-// quadratics along the ray, found by a hierarchical grid walk over a maximum mipmap of the heights:
-// Tevs et al. 2008, rendering.md 1.5, here on the CPU with a 2-D DDA per level).
+// queries allocate nothing and are exact: closed forms for boxes and spheres, found through a bounding
+// volume hierarchy (walls arrive as many boxes); the floor's bilinear cells solved as quadratics along
+// the ray, found by a hierarchical grid walk over a maximum mipmap of the heights (Tevs et al. 2008,
+// rendering.md 1.5, here on the CPU with a 2-D DDA per level).
 //
 // The arithmetic is double: rays here are few per pixel, and the grid walk and quadratics are then
 // robust for the long, grazing rays a low camera sends over the beach.
@@ -61,15 +62,17 @@ class SceneObjects {
  private:
   struct Box {
     double cx, cy, cz, hx, hy, hz, cos_yaw, sin_yaw;
-    double radius2;  // of the bounding sphere, m^2
     LinearRgb colour;
   };
   struct Sphere {
     double cx, cy, cz, radius;
     LinearRgb colour;
   };
-  /// Nearest box or sphere hit in [t_min, t_max).
-  SurfaceHit hit_objects(const SceneRay& ray, double t_min, double t_max) const noexcept;
+  /// Nearest box or sphere hit in [t_min, t_max) (with `any`: the first found).
+  SurfaceHit hit_objects(const SceneRay& ray, double t_min, double t_max, bool any = false) const noexcept;
+  bool hit_box(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
+  bool hit_sphere(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
+  void build_bvh();
   /// Nearest floor hit in [t_min, t_max) where the ray is at or above z_lo (t_max when none); writes
   /// the normal on a hit when `normal` is not null.
   double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo,
@@ -81,6 +84,16 @@ class SceneObjects {
 
   std::vector<Box> boxes_;
   std::vector<Sphere> spheres_;
+  // Bounding volume hierarchy over boxes and spheres (walls are many boxes). A node is a leaf when
+  // count > 0 (primitives_[first .. first + count)), else its children are nodes first, first + 1.
+  struct Node {
+    float lo[3] = {0.0f, 0.0f, 0.0f}, hi[3] = {0.0f, 0.0f, 0.0f};
+    std::uint32_t first = 0, count = 0;
+  };
+  static constexpr std::uint32_t sphere_bit = 0x80000000u;  // primitive ids: box index, or sphere index | bit
+  static constexpr int max_bvh_depth = 64;
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> primitives_;
   // Floor.
   double origin_x_ = 0.0, origin_y_ = 0.0, cell_ = 1.0;
   std::int64_t nx_ = 0, ny_ = 0;  // samples per side

@@ -16,7 +16,7 @@ void surface_column_stats(const ColumnStatsJob& job) noexcept {
   using V = simd::vfloat<A>;
   constexpr std::size_t W = simd::width<A>;
   for (std::size_t i = job.a; i <= job.b; i += W) {
-    V lo = simd::load<A>(job.rows + i), hi = lo, dx(0.0f), dy(0.0f), diff(0.0f);
+    V lo = simd::load<A>(job.rows + i), hi = lo, dx(0.0f), dy(0.0f);
     V cur = lo;
     for (std::uint32_t j = 0; j < job.count; ++j) {
       const float* r = job.rows + j * job.stride + i;
@@ -30,16 +30,11 @@ void surface_column_stats(const ColumnStatsJob& job) noexcept {
       }
       const V e = simd::abs(simd::load<A>(r + 1) - cur);
       dx = simd::select(e > dx, e, dx);
-      if (job.other != nullptr) {
-        const V f = simd::abs(cur - simd::load<A>(job.other + j * job.other_stride + i));
-        diff = simd::select(f > diff, f, diff);
-      }
     }
     simd::store<A>(job.lo + i, lo);
     simd::store<A>(job.hi + i, hi);
     simd::store<A>(job.dx + i, dx);
     simd::store<A>(job.dy + i, dy);
-    if (job.other != nullptr) simd::store<A>(job.diff + i, diff);
   }
 }
 

@@ -32,10 +32,9 @@ Layout layout(const SurfaceFrameConfig& c) {
   l.tile_floats = round_up(std::size_t(c.levels) * l.tiles * l.tiles, align_floats);
   l.flag_floats = round_up((std::size_t(c.levels) * l.tiles * l.tiles + 3) / 4, align_floats);  // one byte per tile
   // height, grad_x, grad_y; four tile arrays; the tiles' fill flags; two fill rows; the bounds pass's
-  // 9 column arrays and tile_cells + 1 partner rows, with a batch of slack after each (the column
-  // kernel works in whole batches).
+  // 4 column arrays, with a batch of slack after each (the column kernel works in whole batches).
   l.total_floats = 3 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats + 2 * l.stride +
-                   9 * (l.stride + align_floats) + (std::size_t(c.tile_cells) + 1) * l.stride + 2 * align_floats;
+                   4 * (l.stride + align_floats);
   return l;
 }
 
@@ -47,7 +46,7 @@ Error check(const SurfaceFrameConfig& c) {
   if (!power_of_two(c.tile_cells) || c.tile_cells < 2 || c.tile_cells > max_tile_cells) {
     return {"surface.tile_cells", "a power of two in [2, " + std::to_string(max_tile_cells) + "]"};
   }
-  // >= 4 tiles per side keeps each level inside the next coarser one (nested bounds, blend partner).
+  // >= 4 tiles per side keeps each level inside the next coarser one (nested bounds, morph partner).
   if (c.cells % c.tile_cells != 0 || c.cells < 4 * c.tile_cells || c.cells > 8192) {
     return {"surface.cells", "a multiple of tile_cells, at least 4 tile_cells and at most 8192"};
   }
@@ -71,7 +70,7 @@ void chebyshev_range(double x0, double x1, double y0, double y1, double cx, doub
   hi = std::max(std::max(std::fabs(x0 - cx), std::fabs(x1 - cx)), std::max(std::fabs(y0 - cy), std::fabs(y1 - cy)));
 }
 
-/// Widen bounds for the rounding of the marcher's float bilinear interpolation and blend (a few ulps
+/// Widen bounds for the rounding of the marcher's float bilinear interpolation (a few ulps
 /// of the heights involved; 2^-20 relative is 16 ulps).
 void add_margins(float& h_min, float& h_max, float& sx, float& sy) {
   const float m = std::ldexp(std::max(std::fabs(h_min), std::fabs(h_max)), -20) + 1e-30f;
@@ -129,6 +128,7 @@ SurfaceFrame& SurfaceFrame::operator=(SurfaceFrame&&) noexcept = default;
 SurfaceFrame::~SurfaceFrame() = default;
 
 void SurfaceFrame::begin_frame(float centre_x, float centre_y) noexcept {
+  morphed_ = false;
   centre_x_ = centre_x;
   centre_y_ = centre_y;
   const double n = config_.cells, tc = config_.tile_cells;
@@ -142,8 +142,8 @@ void SurfaceFrame::begin_frame(float centre_x, float centre_y) noexcept {
     // The origin is within half a tile of centred; one more cell keeps bilinear taps inside.
     s.reach = float((0.5 * n - 0.5 * tc - 1.0) * cell);
   }
-  // The tiles anything can sample: those reaching level l's annulus, from where level l starts to be
-  // read as the blend partner of level l - 1 out to its reach (one cell of slack for rounding).
+  // The tiles anything can sample: those reaching level l's annulus, from where level l - 1 starts to
+  // morph toward it out to its reach (one cell of slack for rounding).
   const double beta = config_.blend_fraction;
   for (std::uint32_t l = 0; l < config_.levels; ++l) {
     const SurfaceLevel& s = levels_[l];
@@ -282,6 +282,7 @@ SurfaceFrameView SurfaceFrame::view() const noexcept {
 
 void SurfaceFrame::fill(SurfaceSampler sampler, void* context) noexcept {
   const std::uint32_t nodes = config_.cells + 1, tc = config_.tile_cells;
+  morphed_ = false;  // fresh samples
   for (std::uint32_t l = 0; l < config_.levels; ++l) {
     const SurfaceLevel& s = levels_[l];
     const std::uint8_t* need = needed_ + std::size_t(l) * tiles_ * tiles_;
@@ -306,16 +307,20 @@ void SurfaceFrame::fill(SurfaceSampler sampler, void* context) noexcept {
         ti = end;
       }
     }
-    // Level l - 1's bounds need this level (its blend partner): finish it while its rows are warm.
+    // Level l - 1's morph needs this level (its partner): finish it while its rows are warm.
     if (l > 0) finish_level(l - 1);
   }
   finish_level(config_.levels - 1);
   finish_global();
+  morphed_ = true;
 }
 
 void SurfaceFrame::finish_frame() noexcept {
+  // Level l's morph reads level l + 1 where that level is not morphed itself (its band lies beyond
+  // level l's reach), so the order does not matter; morph once per fill.
   for (std::uint32_t l = 0; l < config_.levels; ++l) finish_level(l);
   finish_global();
+  morphed_ = true;
 }
 
 namespace {
@@ -341,38 +346,78 @@ struct ColumnStats {
 
 }  // namespace
 
-void SurfaceFrame::finish_level(std::uint32_t l) noexcept {
+void SurfaceFrame::morph_level(std::uint32_t l) noexcept {
+  // Geomorphing (as in CDLOD): in the outer band of its reach a level's nodes move toward the next
+  // coarser level's bilinear surface, reaching it a cell before the reach so that every cell touching
+  // the reach is wholly the coarser surface. H stays one bilinear fetch per sample, continuous across
+  // levels, and continuous in the camera position (w follows the continuous centre).
   const SurfaceLevel& s = levels_[l];
-  const std::uint32_t tc = config_.tile_cells, nt = tiles_;
   const bool last = l + 1 == config_.levels;
-  const float* h = heights(l);
-  const double cx = centre_x_, cy = centre_y_, cell = s.cell, tile = double(tc) * cell;
-  const double beta = config_.blend_fraction, band_hi = s.reach, band_lo = (1.0 - beta) * s.reach;
-  // |dw/dx| <= max smoothstep' / band width; the blend adds |h_next - h_l| times that to the slope.
-  const float blend_gradient = float(1.5 / (beta * double(s.reach)));
-  // The partner (next coarser level) at this level's nodes: node (i, j) is at partner coordinates
-  // (px + i/2, py + j/2), px and py integers because origins lie on this level's tile lattice.
-  const float* ph = last ? nullptr : heights(l + 1);
+  const float band_end = s.reach - s.cell, band_start = band_end - config_.blend_fraction * s.reach;
+  const float inv_band = 1.0f / (band_end - band_start);
+  const std::uint32_t nodes = config_.cells + 1, tc = config_.tile_cells;
+  const std::uint8_t* need = needed_ + std::size_t(l) * tiles_ * tiles_;
+  // Node (i, j) lies at the partner's (px + i/2, py + j/2); px, py integers (origins on the tile lattice).
   std::int64_t px = 0, py = 0;
   if (!last) {
     const SurfaceLevel& p = levels_[l + 1];
     px = std::llround((double(s.origin_x) - p.origin_x) / p.cell);
     py = std::llround((double(s.origin_y) - p.origin_y) / p.cell);
   }
+  float* fields[3] = {heights(l), grad_x(l), grad_y(l)};
+  const float* partners[3] = {last ? nullptr : heights(l + 1), last ? nullptr : grad_x(l + 1),
+                              last ? nullptr : grad_y(l + 1)};
+  const float far_values[3] = {config_.far_height, 0.0f, 0.0f};
+  for (std::uint32_t j = 0; j < nodes; ++j) {
+    const float dy = std::fabs(s.origin_y + float(j) * s.cell - centre_y_);
+    const std::uint32_t upper = std::min(j / tc, tiles_ - 1), lower = j % tc == 0 && j > 0 ? j / tc - 1 : upper;
+    for (std::uint32_t i = 0; i < nodes; ++i) {
+      // Filled nodes only (a node belongs to up to four tiles).
+      const std::uint32_t ti = std::min(i / tc, tiles_ - 1), tl = i % tc == 0 && i > 0 ? i / tc - 1 : ti;
+      if (!(need[upper * tiles_ + ti] || need[upper * tiles_ + tl] || need[lower * tiles_ + ti] ||
+            need[lower * tiles_ + tl])) {
+        continue;
+      }
+      const float r = std::max(std::fabs(s.origin_x + float(i) * s.cell - centre_x_), dy);
+      if (!(r > band_start)) continue;
+      float x = (r - band_start) * inv_band;
+      x = x < 1.0f ? x : 1.0f;
+      const float w = x * x * (3.0f - 2.0f * x);
+      const std::size_t k = j * stride_ + i;
+      for (int f = 0; f < 3; ++f) {
+        float p = far_values[f];
+        if (!last) {
+          // The partner's bilinear value at fractions 0 or 1/2, horizontal first as in the marcher.
+          const float* q = partners[f] + std::size_t(py + std::int64_t(j / 2)) * stride_ + std::size_t(px + std::int64_t(i / 2));
+          const float u0 = (i & 1) ? q[0] + 0.5f * (q[1] - q[0]) : q[0];
+          if (j & 1) {
+            const float* q1 = q + stride_;
+            const float u1 = (i & 1) ? q1[0] + 0.5f * (q1[1] - q1[0]) : q1[0];
+            p = u0 + 0.5f * (u1 - u0);
+          } else {
+            p = u0;
+          }
+        }
+        fields[f][k] = fields[f][k] + w * (p - fields[f][k]);
+      }
+    }
+  }
+}
+
+void SurfaceFrame::finish_level(std::uint32_t l) noexcept {
+  const SurfaceLevel& s = levels_[l];
+  const std::uint32_t tc = config_.tile_cells, nt = tiles_;
+  if (!morphed_) morph_level(l);
+  const float* h = heights(l);
+  const double cx = centre_x_, cy = centre_y_, tile = double(tc) * s.cell;
   const std::size_t base = std::size_t(l) * nt * nt;
-  // Scratch: 9 column arrays (own and partner statistics, |partner - own|), then the partner rows.
-  const std::size_t col = stride_ + align_floats;
-  const ColumnStats own{scratch_, scratch_ + col, scratch_ + 2 * col, scratch_ + 3 * col};
-  const ColumnStats other{scratch_ + 4 * col, scratch_ + 5 * col, scratch_ + 6 * col, scratch_ + 7 * col};
-  float* diff = scratch_ + 8 * col;        // column max of |partner - own|
-  float* partner = scratch_ + 9 * col;     // tc + 1 rows of partner values at this level's nodes
+  const ColumnStats own{scratch_, scratch_ + (stride_ + align_floats), scratch_ + 2 * (stride_ + align_floats),
+                        scratch_ + 3 * (stride_ + align_floats)};
   const auto& kernels = simd::active_table<detail::KernelTable>();
 
   for (std::uint32_t tj = 0; tj < nt; ++tj) {
     const std::size_t row = base + std::size_t(tj) * nt;
-    // The span of needed tiles, and whether any of them lies in the blend band.
     std::uint32_t first = nt, end = 0;
-    bool band = false;
     for (std::uint32_t ti = 0; ti < nt; ++ti) {
       tile_min_[row + ti] = std::numeric_limits<float>::infinity();  // empty unless filled (or merged below)
       tile_max_[row + ti] = -std::numeric_limits<float>::infinity();
@@ -380,59 +425,19 @@ void SurfaceFrame::finish_level(std::uint32_t l) noexcept {
       if (needed_[row + ti] == 0) continue;
       first = std::min(first, ti);
       end = ti + 1;
-      const double x0 = s.origin_x + ti * tile, y0 = s.origin_y + tj * tile;
-      double r_lo, r_hi;
-      chebyshev_range(x0, x0 + tile, y0, y0 + tile, cx, cy, r_lo, r_hi);
-      band = band || (r_lo <= band_hi && r_hi >= band_lo);
     }
     if (first == nt) continue;
-    const std::size_t a = std::size_t(first) * tc, b = std::size_t(end) * tc, j0 = std::size_t(tj) * tc;
-    // Bilinear pieces take their extremes and steepest edges at nodes: node columns suffice.
-    kernels.surface_column_stats(
-        {h + j0 * stride_, stride_, nullptr, 0, tc + 1, a, b, own.lo, own.hi, own.dx, own.dy, nullptr});
+    // H is bilinear in the (morphed) nodes: extremes and steepest edges are at nodes, so per-column
+    // statistics of the tile row reduced over each tile's columns bound it exactly.
+    const std::size_t j0 = std::size_t(tj) * tc;
+    kernels.surface_column_stats({h + j0 * stride_, stride_, tc + 1, std::size_t(first) * tc, std::size_t(end) * tc,
+                                  own.lo, own.hi, own.dx, own.dy});
     for (std::uint32_t ti = first; ti < end; ++ti) {
       const std::size_t k = row + ti;
       if (needed_[k] == 0) continue;
-      const std::size_t i0 = std::size_t(ti) * tc;
-      float lo = std::numeric_limits<float>::infinity(), hi = -lo, sx = 0.0f, sy = 0.0f, blend_slope = 0.0f;
-      own.reduce(i0, tc, lo, hi, sx, sy);
-      const double x0 = s.origin_x + ti * tile, y0 = s.origin_y + tj * tile;
-      double r_lo, r_hi;
-      chebyshev_range(x0, x0 + tile, y0, y0 + tile, cx, cy, r_lo, r_hi);
-      if (band && r_lo <= band_hi && r_hi >= band_lo) {
-        // In the blend band H = (1 - w) h_l + w h_next, with h_next bilinear on each of this level's
-        // cells too (cells nest): bound both at the nodes, plus |h_next - h_l| |grad w|. The
-        // partner's values at this tile's nodes first (its bilinear interpolation at fractions 0, 1/2).
-        // (j0 and i0 are even: tile_cells is.) Horizontal interpolation of the partner rows first,
-        // then vertical, as the marcher's bilinear fetch orders them.
-        const std::uint32_t half = tc / 2;
-        for (std::uint32_t m = 0; m <= half; ++m) {
-          float* out = partner + 2 * m * stride_;
-          if (last) {
-            std::fill(out + i0, out + i0 + tc + 1, config_.far_height);
-            continue;
-          }
-          const float* q = ph + std::size_t(py + std::int64_t(j0 / 2 + m)) * stride_ + std::size_t(px + std::int64_t(i0 / 2));
-          for (std::uint32_t e = 0; e < half; ++e) {
-            out[i0 + 2 * e] = q[e];
-            out[i0 + 2 * e + 1] = q[e] + 0.5f * (q[e + 1] - q[e]);
-          }
-          out[i0 + tc] = q[half];
-        }
-        for (std::uint32_t m = 0; m < half; ++m) {
-          const float* u0 = partner + 2 * m * stride_;
-          const float* u1 = u0 + 2 * stride_;
-          float* out = partner + (2 * m + 1) * stride_;
-          for (std::size_t i = i0; i <= i0 + tc; ++i) out[i] = u0[i] + 0.5f * (u1[i] - u0[i]);
-        }
-        kernels.surface_column_stats({partner, stride_, h + j0 * stride_, stride_, tc + 1, i0, i0 + tc, other.lo,
-                                      other.hi, other.dx, other.dy, diff});
-        float d = 0.0f;
-        other.reduce(i0, tc, lo, hi, sx, sy);
-        for (std::size_t i = i0; i <= i0 + tc; ++i) d = std::max(d, diff[i]);
-        blend_slope = blend_gradient * d;
-      }
-      float slope_x = sx / s.cell + blend_slope, slope_y = sy / s.cell + blend_slope;
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo, sx = 0.0f, sy = 0.0f;
+      own.reduce(std::size_t(ti) * tc, tc, lo, hi, sx, sy);
+      float slope_x = sx / s.cell, slope_y = sy / s.cell;
       add_margins(lo, hi, slope_x, slope_y);
       tile_min_[k] = lo;
       tile_max_[k] = hi;

@@ -420,6 +420,36 @@ TEST(March, WithCapillaryNoiseFindsTheFirstCrossing) {
   }
 }
 
+TEST(March, NoiseEnvelopeBoundsTheNoiseAndShrinksAlongTheRay) {
+  // The marcher skips noise evaluations outside an envelope; it must bound the noise the marcher
+  // evaluates at every distance, and never grow along a ray (so a bound holds for a whole step).
+  const Scene s = make_scene(0.0f, 0.0f, 1.0);
+  for (float lacunarity : {2.0f, 1.5f, 3.0f}) {
+    houle::CapillaryParams cp;
+    cp.amplitude = 0.02f;
+    cp.lacunarity = lacunarity;
+    cp.max_octaves = 7;
+    auto nf = houle::make_capillary_frame(cp, 2.0);
+    ASSERT_TRUE(nf.ok());
+    houle::MarchParams p = default_params();
+    p.noise = &nf.value();
+    const houle::MarchProbe probe(s.frame, p);
+    std::mt19937 rng(int(lacunarity * 10));
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int k = 0; k < 3000; ++k) {
+      const float dz = -std::pow(10.0f, -3.5f * u(rng)), t = std::pow(10.0f, 3.0f * u(rng) - 0.5f);
+      const float level = probe.noise_level(dz, t);
+      const float hb = probe.noise_height_bound(dz, t), sb = probe.noise_slope_bound(dz, t);
+      EXPECT_GE(hb, houle::capillary_height_bound(cp, level)) << "dz " << dz << " t " << t;
+      EXPECT_GE(sb, houle::capillary_slope_bound(cp, level)) << "dz " << dz << " t " << t;
+      EXPECT_LE(probe.noise_height_bound(dz, t * 1.01f), hb);
+      EXPECT_LE(probe.noise_level(dz, t * 1.01f), level);
+      // The level the marcher uses is the capillary module's octave_level (to its log approximation).
+      EXPECT_NEAR(level, houle::octave_level(cp, t, p.pixel_angle, std::fabs(dz)), 1e-4f);
+    }
+  }
+}
+
 TEST(March, GradientAtTheHitIsTheWavesGradient) {
   // Long, gentle trains only: the interpolated grid gradient equals the analytic one closely.
   houle::SurfaceFrameConfig cfg;

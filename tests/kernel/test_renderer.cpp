@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numeric>
 #include <vector>
 
@@ -52,7 +53,7 @@ houle::SurfaceFrameConfig small_frame_config() {
 /// (a perfectly flat sea without noise gives t_in == t_out and every ray misses).
 houle::SurfaceFrame make_surface(double t, float cx = 0.0f, float cy = 0.0f, bool flat = false) {
   auto f = houle::SurfaceFrame::create(small_frame_config());
-  EXPECT_TRUE(f.ok());
+  EXPECT_TRUE(f.ok()) << (f.ok() ? "" : f.error().field + ": " + f.error().message);
   const auto waves = flat ? std::vector<houle::GerstnerWave>{{1.0f, 0.0f, 2.0f * 3.14159265f / 50.0f, 1e-3f, 0.0f, 1.1f, 0.0f}}
                           : two_trains();
   auto g = houle::make_gerstner_frame(waves, t);
@@ -535,6 +536,46 @@ TEST(SceneObjects, BumpyFloorMatchesADenseMarch) {
     }
   }
   EXPECT_GT(hits, 200);
+}
+
+TEST(SceneObjects, HierarchyFindsWhatEachObjectAloneFinds) {
+  // 150 random boxes and spheres: the nearest hit through the hierarchy equals the nearest of the
+  // hits of one-object scenes, and any-hit agrees with it.
+  std::uint32_t seed = 777u;
+  const auto rnd = [&seed] {
+    seed = seed * 1664525u + 1013904223u;
+    return float(seed >> 8) / float(1u << 24);
+  };
+  RenderScene all;
+  std::vector<SceneObjects> single;
+  for (int k = 0; k < 150; ++k) {
+    RenderScene one;
+    if (k % 3 == 0) {
+      one.spheres.push_back({{80.0f * rnd() - 40.0f, 80.0f * rnd() - 40.0f, 6.0f * rnd() - 3.0f}, 0.2f + 2.0f * rnd(), {}});
+      all.spheres.push_back(one.spheres.back());
+    } else {
+      one.boxes.push_back({{80.0f * rnd() - 40.0f, 80.0f * rnd() - 40.0f, 6.0f * rnd() - 3.0f},
+                           {0.2f + 3.0f * rnd(), 0.2f + 0.5f * rnd(), 0.2f + 2.0f * rnd()},
+                           6.28f * rnd(), {}});
+      all.boxes.push_back(one.boxes.back());
+    }
+    single.push_back(std::move(SceneObjects::build(one).value()));
+  }
+  auto built = SceneObjects::build(all);
+  ASSERT_TRUE(built.ok());
+  int hits = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const SceneRay r = ray_to({60.0 * rnd() - 30.0, 60.0 * rnd() - 30.0, 8.0 * rnd() - 4.0},
+                              {rnd() - 0.5, rnd() - 0.5, 0.3 * (rnd() - 0.5)});
+    const double t_max = k % 2 ? 1e5 : 20.0;
+    float ref = std::numeric_limits<float>::infinity();
+    for (const SceneObjects& o : single) ref = std::min(ref, o.intersect(r, 0.0, t_max).t);
+    const houle::detail::SurfaceHit h = built->intersect(r, 0.0, t_max);
+    EXPECT_EQ(h.t, ref) << k;
+    EXPECT_EQ(built->occluded(r, 0.0, t_max), ref < t_max) << k;
+    hits += ref < t_max;
+  }
+  EXPECT_GT(hits, 500);
 }
 
 TEST(SceneObjects, BoxesAndSpheres) {

@@ -100,6 +100,9 @@ bool node_filled(const SurfaceFrame& f, std::uint32_t l, std::size_t i, std::siz
 }
 
 TEST(SurfaceFrame, GerstnerFillEqualsDirectEvaluationAtNodes) {
+  // Every filled node holds gerstner_eval's bits, except in each level's outer band, where it holds
+  // the morph h + w (p - h) toward the next level's bilinear surface p (w = smoothstep of the
+  // Chebyshev distance across the band, reaching 1 a cell before the level's reach).
   SurfaceFrameConfig cfg;
   cfg.levels = 4;
   cfg.cells = 128;
@@ -107,14 +110,20 @@ TEST(SurfaceFrame, GerstnerFillEqualsDirectEvaluationAtNodes) {
   const auto waves = coastal_waves();
   const auto frame = houle::make_gerstner_frame(waves, 12.25);
   ASSERT_TRUE(frame.ok());
+  const float cx = 13.7f, cy = -41.2f;
+  const auto direct = [&](houle::Isa isa, float x, float y, float out[3]) {
+    houle::gerstner_eval(isa, frame.value(), &x, &y, 1, {&out[0], &out[1], &out[2]});
+  };
   for (houle::Isa isa : houle::supported_isas()) {
-    f.begin_frame(13.7f, -41.2f);
+    f.begin_frame(cx, cy);
     houle::fill_gerstner(isa, f, frame.value());
     const std::size_t n = cfg.cells + 1;
     std::vector<float> x(n), y(n), h(n), gx(n), gy(n);
-    std::size_t mismatches = 0, checked = 0;
+    std::size_t mismatches = 0, checked = 0, morphed = 0;
+    double worst_morph = 0.0;
     for (std::uint32_t l = 0; l < cfg.levels; ++l) {
       const houle::SurfaceLevel& s = f.level(l);
+      const float band_end = s.reach - s.cell, band_start = band_end - cfg.blend_fraction * s.reach;
       for (std::size_t j = 0; j < n; j += 7) {
         for (std::size_t i = 0; i < n; ++i) x[i] = s.origin_x + float(i) * s.cell, y[i] = s.origin_y + float(j) * s.cell;
         houle::gerstner_eval(isa, frame.value(), x.data(), y.data(), n, {h.data(), gx.data(), gy.data()});
@@ -122,11 +131,38 @@ TEST(SurfaceFrame, GerstnerFillEqualsDirectEvaluationAtNodes) {
           if (!node_filled(f, l, i, j)) continue;
           ++checked;
           const std::size_t k = j * f.stride() + i;
-          mismatches += f.heights(l)[k] != h[i] || f.grad_x(l)[k] != gx[i] || f.grad_y(l)[k] != gy[i];
+          const float stored[3] = {f.heights(l)[k], f.grad_x(l)[k], f.grad_y(l)[k]};
+          const float raw[3] = {h[i], gx[i], gy[i]};
+          const float r = std::max(std::fabs(x[i] - cx), std::fabs(y[i] - cy));
+          if (!(r > band_start)) {
+            mismatches += stored[0] != raw[0] || stored[1] != raw[1] || stored[2] != raw[2];
+            continue;
+          }
+          // The partner's bilinear value from direct evaluations at its cell's corners.
+          ++morphed;
+          const float v = std::min((r - band_start) / (band_end - band_start), 1.0f), w = v * v * (3 - 2 * v);
+          float p[3] = {cfg.far_height, 0.0f, 0.0f};
+          if (l + 1 < cfg.levels) {
+            const houle::SurfaceLevel& q = f.level(l + 1);
+            const float u = (x[i] - q.origin_x) / q.cell, t = (y[i] - q.origin_y) / q.cell;
+            const float u0 = std::floor(u), t0 = std::floor(t), fu = u - u0, ft = t - t0;
+            float c00[3], c10[3], c01[3], c11[3];
+            direct(isa, q.origin_x + u0 * q.cell, q.origin_y + t0 * q.cell, c00);
+            direct(isa, q.origin_x + (u0 + 1) * q.cell, q.origin_y + t0 * q.cell, c10);
+            direct(isa, q.origin_x + u0 * q.cell, q.origin_y + (t0 + 1) * q.cell, c01);
+            direct(isa, q.origin_x + (u0 + 1) * q.cell, q.origin_y + (t0 + 1) * q.cell, c11);
+            for (int e = 0; e < 3; ++e) {
+              const float a = c00[e] + fu * (c10[e] - c00[e]), b = c01[e] + fu * (c11[e] - c01[e]);
+              p[e] = a + ft * (b - a);
+            }
+          }
+          for (int e = 0; e < 3; ++e) worst_morph = std::max(worst_morph, std::fabs(double(stored[e]) - (raw[e] + w * (p[e] - raw[e]))));
         }
       }
     }
     EXPECT_EQ(mismatches, 0u) << houle::isa_name(isa);
+    EXPECT_LT(worst_morph, 1e-6) << houle::isa_name(isa);
+    EXPECT_GT(morphed, 100u);
     EXPECT_GT(checked, std::size_t(cfg.levels) * n * n / 7 / 2);  // most nodes are filled
   }
 }
@@ -173,7 +209,7 @@ BoundsCheck check_bounds(const SurfaceFrame& f, std::mt19937& rng, int per_tile)
   return r;
 }
 
-TEST(SurfaceFrame, TileBoundsBoundTheBlendedBilinearSurface) {
+TEST(SurfaceFrame, TileBoundsBoundTheMorphedBilinearSurface) {
   SurfaceFrameConfig cfg;
   cfg.levels = 5;
   cfg.cells = 128;

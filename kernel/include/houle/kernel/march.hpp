@@ -1,8 +1,8 @@
 // Packet ray marcher: first crossing of rays with the frame's sea surface (paper section 3,
 // rendering.md 1.2-1.3, 2.2).
 //
-// f(t) = o_z + t d_z - S(o_xy + t d_xy), S = H (the SurfaceFrame's LOD-blended grid) + capillary noise
-// at the octave level of the sample's distance. Per ray:
+// f(t) = o_z + t d_z - S(o_xy + t d_xy), S = H (the SurfaceFrame's LOD grid, morphed between levels)
+// plus capillary noise at the octave level of the sample's distance. Per ray:
 //   1. clip to the slab [z_min, z_max] (grid slab widened by the noise bound) and to t_max;
 //   2. march from the entry: t += max(safe, delta), where `safe` is the largest of the Lipschitz step
 //      f / L (L = |d_z| + G_x |d_x| + G_y |d_y|, G from the bounds tile under the sample) and the distance
@@ -10,7 +10,7 @@
 //      step_fraction x the cone width at t (a fraction of the pixel footprint). Lipschitz steps cannot
 //      pass a crossing; only delta can, over features thinner than delta;
 //   3. refine the bracket with a fixed number of Illinois (regula falsi) iterations;
-//   4. report t, the hit point and the surface gradient there (bilinear grid gradient, blended like the
+//   4. report t, the hit point and the surface gradient there (bilinear grid gradient, morphed like the
 //      heights, plus the noise gradient): the eq. 8 normal is (-grad_x, -grad_y, 1) normalised.
 // A ray that starts below the surface (f < 0) looks for the crossing from below the same way.
 // Noise is evaluated only inside its envelope: above |f_grid| > noise bound the ray marches against the
@@ -102,7 +102,7 @@ struct MarchContext;
 }
 
 /// The marcher's surface for one frame and parameters, evaluated one point at a time by the scalar
-/// reference exactly as the marcher does (LOD blend, noise at the level for t): for dense references
+/// reference exactly as the marcher does (LOD level, noise at the level for t): for dense references
 /// in tests and for tools. Construction allocates (it is not frame-loop code).
 class MarchProbe {
  public:
@@ -115,6 +115,10 @@ class MarchProbe {
   float f(float ox, float oy, float oz, float dx, float dy, float dz, float t) const noexcept;
   /// The noise level the marcher uses at distance t on a ray with vertical component dz (0 without noise).
   float noise_level(float dz, float t) const noexcept;
+  /// The marcher's bounds of |noise| and |grad noise| at distance t on a ray with vertical component dz
+  /// (its envelope: they must bound capillary_height_bound and capillary_slope_bound at the level used).
+  float noise_height_bound(float dz, float t) const noexcept;
+  float noise_slope_bound(float dz, float t) const noexcept;
   /// The grid part of S at (x, y) (SurfaceFrame::height_at).
   float grid_height(float x, float y) const noexcept;
   /// The slab [z_lo, z_hi] rays are clipped to (grid slab widened by the noise bound).

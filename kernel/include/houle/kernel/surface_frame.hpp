@@ -9,23 +9,26 @@
 // Which level is sampled where. With r = max(|x - c_x|, |y - c_y|) (c = the frame centre, the
 // camera's ground point, continuous), level l is sampled for reach_{l-1} < r <= reach_l
 // (reach_l = (cells / 2 - tile_cells / 2 - 1) cell_l, doubling per level) and beyond the last level's
-// reach the sea is the flat plane z = far_height. In the outer blend_fraction of each level's reach
-// the level fades into the next coarser one (into the plane for the last level):
-//   H = h_l + w (h_{l+1} - h_l),  w = smoothstep((r - (1 - blend_fraction) reach_l) / (blend_fraction reach_l))
-// h_l bilinear in level l's nodes. H is therefore continuous in (x, y) and in the camera position:
-// no popping. Grid origins snap to the tile size (a multiple of the cell size), so nodes sit at the
-// same world points whatever the camera does and the surface does not swim; only the blend weights,
-// which follow the continuous centre, move with the camera.
+// reach the sea is the flat plane z = far_height. H is bilinear in the nodes of the level sampled.
 //
-// Bounds are rigorous for that H (bilinear pieces reach their extremes at nodes; a tile in a blend
-// band also bounds the partner level and the blend weight's gradient), and a level's tile also bounds
-// the finer levels inside it, so a bound read at a sample holds along the ray until it leaves the
-// tile or the level's reach (march.hpp uses this).
+// No popping: in the outer band of each level (width blend_fraction reach_l, ending one cell before
+// reach_l) finish_frame() morphs the nodes toward the next coarser level (the far plane for the last):
+//   node <- node + w (p - node),  w = smoothstep((r_node - band_start) / band_width),
+// p the coarser level's bilinear value there (geomorphing, as in CDLOD clipmaps). Cells touching a
+// reach are then wholly the coarser surface, so H is continuous across levels with one bilinear
+// fetch per sample, and continuous in the camera position: grid origins snap to the tile size (nodes
+// stay on fixed world points, the surface does not swim) and only w, which follows the continuous
+// centre, moves with the camera. Gradients are morphed the same way (they are shading gradients).
+//
+// Bounds are rigorous for that H: bilinear pieces reach their extremes and steepest edges at nodes,
+// and a level's tile also bounds the finer levels inside it, so a bound read at a sample holds along
+// the ray until it leaves the tile or the level's reach (march.hpp uses this).
 //
 // Memory is allocated once by create() (bytes_bound() says how much); a frame is begin_frame(centre),
-// filling the node arrays (fill(), fill_gerstner(), or writing heights()/grad_x()/grad_y() directly,
-// e.g. from traced wave rays), then finish_frame() (fill does it) for the bounds. No allocation and
-// no failure per frame. Coordinates are world m as floats: keep the scene near the origin.
+// optionally restrict_to_view(camera), filling the node arrays (fill(), fill_gerstner(), or writing
+// heights()/grad_x()/grad_y() directly, e.g. from traced wave rays), then finish_frame() (fill does
+// it) for the morph and the bounds. No allocation and no failure per frame. Coordinates are world m
+// as floats: keep the scene near the origin.
 #pragma once
 #include <array>
 #include <cstddef>
@@ -44,7 +47,7 @@ struct SurfaceFrameConfig {
   std::uint32_t cells = 256;       ///< cells per side of every level, a multiple of tile_cells, >= 4 tile_cells
   std::uint32_t tile_cells = 16;   ///< cells per side of a bounds tile, a power of two >= 2
   float finest_cell = 0.25f;       ///< m, cell size of level 0 (> 0; a power of two makes nesting exact)
-  float blend_fraction = 0.15f;    ///< outer fraction of each level's reach where it fades into the next, (0, 0.5]
+  float blend_fraction = 0.15f;    ///< width of each level's morph band, as a fraction of its reach, (0, 0.5]
   float far_height = 0.0f;         ///< m, the sea beyond the last level (still water)
 };
 
@@ -117,6 +120,7 @@ class SurfaceFrame {
   /// Floats between node rows of the arrays below.
   std::size_t stride() const noexcept { return stride_; }
   /// Level l's node arrays ((cells + 1) rows of `stride` floats), for fills that write them directly.
+  /// Raw samples until finish_frame(), which morphs the band nodes in place.
   float* heights(std::uint32_t l) noexcept { return height_ + l * level_floats_; }
   float* grad_x(std::uint32_t l) noexcept { return grad_x_ + l * level_floats_; }
   float* grad_y(std::uint32_t l) noexcept { return grad_y_ + l * level_floats_; }
@@ -124,10 +128,10 @@ class SurfaceFrame {
   const float* grad_x(std::uint32_t l) const noexcept { return grad_x_ + l * level_floats_; }
   const float* grad_y(std::uint32_t l) const noexcept { return grad_y_ + l * level_floats_; }
 
-  /// Evaluates every node of every level with `sampler`, one row per call (cells + 1 points), and
-  /// computes the bounds level by level as it goes (equal to finish_frame()).
+  /// Evaluates every node to be filled with `sampler` (runs of at most cells + 1 points along a row)
+  /// and finishes level by level as it goes (the same result as finish_frame()).
   void fill(SurfaceSampler sampler, void* context) noexcept;
-  /// Tile bounds, global bounds and the slab from the node arrays.
+  /// Morphs the band nodes (once per fill) and computes tile bounds, global bounds and the slab.
   void finish_frame() noexcept;
 
   /// Bounds of anything added on top of the grid (capillary noise: capillary_height_bound and
@@ -152,6 +156,7 @@ class SurfaceFrame {
     void operator()(float* p) const noexcept;
   };
   SurfaceFrame() = default;
+  void morph_level(std::uint32_t l) noexcept;
   void finish_level(std::uint32_t l) noexcept;
   void finish_global() noexcept;
 
@@ -174,6 +179,7 @@ class SurfaceFrame {
   float centre_x_ = 0.0f, centre_y_ = 0.0f;
   TileBounds global_{};
   float noise_height_ = 0.0f, noise_slope_ = 0.0f;
+  bool morphed_ = false;  ///< the band nodes hold their morphed values (finish once per fill)
 };
 
 /// Fills `frame` (after begin_frame) from analytic Gerstner trains with the dispatched
