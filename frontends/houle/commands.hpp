@@ -8,5 +8,7 @@ namespace houle::cli {
 int cmd_validate(std::span<char* const> args);
 int cmd_info(std::span<char* const> args);
 int cmd_render(std::span<char* const> args);
+int cmd_probe(std::span<char* const> args);
+int cmd_bench(std::span<char* const> args);
 
 }  // namespace houle::cli

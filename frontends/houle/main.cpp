@@ -16,6 +16,8 @@ Real-time animation kernel for coastal ocean scenes.
 
 commands:
   render [SCENE]        render an animation to images or raw frames (the built-in coast without SCENE)
+  probe [SCENE] --at X,Y[,T]   wave height, gradient and per-train amplitude, wavelength, direction at points
+  bench [SCENE]         frame-time median, p90, p99, max and per-stage times over N frames
   validate SCENE        check a scene file; errors give file:line:column and what was expected
   info [SCENE]          describe a scene (the built-in coast without SCENE)
 
@@ -55,6 +57,8 @@ int main(int argc, char** argv) {
   if (cmd == "validate") return houle::cli::cmd_validate(rest);
   if (cmd == "info") return houle::cli::cmd_info(rest);
   if (cmd == "render") return houle::cli::cmd_render(rest);
+  if (cmd == "probe") return houle::cli::cmd_probe(rest);
+  if (cmd == "bench") return houle::cli::cmd_bench(rest);
   std::fprintf(stderr, "houle: unknown command '%.*s' (see houle --help)\n", int(cmd.size()), cmd.data());
   return 2;
 }

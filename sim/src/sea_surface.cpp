@@ -113,6 +113,7 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
     s.trains_.push_back(std::move(f));
   }
   s.time_phase_.assign(s.trains_.size(), 0.0f);
+  for (const WaveTrain& t : scene.trains) s.amplitude0_.push_back(float(t.amplitude));
   s.set_time(0.0);
   return s;
 }
@@ -123,46 +124,56 @@ void SeaSurface::set_time(double time_s) noexcept {
   }
 }
 
+SeaSurface::Local SeaSurface::local(const TrainField& f, float x, float y) const noexcept {
+  const float gx = (x - f.origin_x) / f.cell, gy = (y - f.origin_y) / f.cell;
+  if (f.nx > 1 && gx >= 0.0f && gy >= 0.0f && gx <= float(f.nx - 1) && gy <= float(f.ny - 1)) {
+    const std::size_t i = std::min(std::size_t(gx), f.nx - 2), j = std::min(std::size_t(gy), f.ny - 2);
+    const float u = gx - float(i), v = gy - float(j);
+    const std::size_t n00 = j * f.nx + i, n10 = n00 + 1, n01 = n00 + f.nx, n11 = n01 + 1;
+    auto lerp2 = [&](const std::vector<float>& q) {
+      return (q[n00] * (1.0f - u) + q[n10] * u) * (1.0f - v) + (q[n01] * (1.0f - u) + q[n11] * u) * v;
+    };
+    return {lerp2(f.phi), lerp2(f.amplitude), lerp2(f.kx), lerp2(f.ky)};
+  }
+  const float kx = f.far_k * f.dir_x, ky = f.far_k * f.dir_y;
+  return {float(double(kx) * x + double(ky) * y - f.far_offset), f.far_amplitude, kx, ky};
+}
+
 void SeaSurface::eval(const float* x, const float* y, std::size_t n, float* height, float* grad_x,
                       float* grad_y) const noexcept {
   for (std::size_t p = 0; p < n; ++p) {
     float h = 0.0f, hx = 0.0f, hy = 0.0f;
     for (std::size_t t = 0; t < trains_.size(); ++t) {
       const TrainField& f = trains_[t];
-      float phi, a, kx, ky;
-      const float gx = (x[p] - f.origin_x) / f.cell, gy = (y[p] - f.origin_y) / f.cell;
-      if (f.nx > 1 && gx >= 0.0f && gy >= 0.0f && gx <= float(f.nx - 1) && gy <= float(f.ny - 1)) {
-        const std::size_t i = std::min(std::size_t(gx), f.nx - 2), j = std::min(std::size_t(gy), f.ny - 2);
-        const float u = gx - float(i), v = gy - float(j);
-        const std::size_t n00 = j * f.nx + i, n10 = n00 + 1, n01 = n00 + f.nx, n11 = n01 + 1;
-        auto lerp2 = [&](const std::vector<float>& q) {
-          return (q[n00] * (1.0f - u) + q[n10] * u) * (1.0f - v) + (q[n01] * (1.0f - u) + q[n11] * u) * v;
-        };
-        phi = lerp2(f.phi);
-        a = lerp2(f.amplitude);
-        kx = lerp2(f.kx);
-        ky = lerp2(f.ky);
-      } else {
-        kx = f.far_k * f.dir_x;
-        ky = f.far_k * f.dir_y;
-        phi = float(double(kx) * x[p] + double(ky) * y[p] - f.far_offset);
-        a = f.far_amplitude;
-      }
-      if (a <= 0.0f) continue;
-      const float k = std::sqrt(kx * kx + ky * ky);
-      const float qka = std::min(f.steepness * k * a, max_fold);
-      const float theta = phi - time_phase_[t];
+      const Local l = local(f, x[p], y[p]);
+      if (l.amplitude <= 0.0f) continue;
+      const float k = std::sqrt(l.kx * l.kx + l.ky * l.ky);
+      const float qka = std::min(f.steepness * k * l.amplitude, max_fold);
+      const float theta = l.phi - time_phase_[t];
       const float s0 = std::sin(theta), c0 = std::cos(theta);
       const float th = theta - qka * c0;
-      const float stretch = a * std::cos(th) * (1.0f + qka * s0);
-      h += a * std::sin(th);
-      hx += stretch * kx;
-      hy += stretch * ky;
+      const float stretch = l.amplitude * std::cos(th) * (1.0f + qka * s0);
+      h += l.amplitude * std::sin(th);
+      hx += stretch * l.kx;
+      hy += stretch * l.ky;
     }
     height[p] = h;
     grad_x[p] = hx;
     grad_y[p] = hy;
   }
+}
+
+TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept {
+  const TrainField& f = trains_[train];
+  const Local l = local(f, x, y);
+  const float k = std::sqrt(l.kx * l.kx + l.ky * l.ky);
+  TrainProbe p;
+  p.amplitude = std::max(l.amplitude, 0.0f);
+  p.relative_amplitude = amplitude0_[train] > 0.0f ? p.amplitude / amplitude0_[train] : 0.0f;
+  p.wavelength = k > 0.0f ? float(two_pi) / k : 0.0f;
+  p.direction_deg = float(std::atan2(l.ky, l.kx) * 180.0 / std::numbers::pi);
+  p.phase = float(std::remainder(double(l.phi) - time_phase_[train], two_pi));
+  return p;
 }
 
 void SeaSurface::sample(void* context, const float* x, const float* y, std::size_t n, float* height, float* grad_x,

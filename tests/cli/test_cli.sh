@@ -98,6 +98,11 @@ if [ "$out" -eq 20000 ] && grep -q 'rc=0' "$work/rc.txt" && grep -q 'output clos
 else
   fail=$((fail + 1)); echo "FAIL closed pipe: $(cat "$work/rc.txt") $(cat "$work/err.txt")"
 fi
+expect probe 0 'train 2: amplitude [0-9.]+ m' "$houle" probe --at 140,90 --at 145,110,2.5
+expect probe-json 0 '"relative_amplitude"' "$houle" probe "$src/scenes/paper_fig4.toml" --at 25,75 --json
+expect probe-bad 2 "probe: --at expects X,Y or X,Y,T" "$houle" probe --at 1
+expect bench 0 '^frame +[0-9.]+' "$houle" bench --frames 3 --warmup 1 --size $size --quality draft
+expect bench-json 0 '"p99"' "$houle" bench --frames 2 --warmup 0 --size $size --quality draft --json
 expect unwritable 2 'cannot open for writing' "$houle" render --frames 1 --size $size --raw /nonexistent-dir/x.rgb
 expect bad-size 2 "render: --size expects WxH" "$houle" render --size 0x10
 expect bad-frames 2 "render: --frames expects A:B" "$houle" render --frames 5:2

@@ -37,6 +37,15 @@ struct TrainField {
   std::vector<float> phi, amplitude, kx, ky;
 };
 
+/// One train at a point: what `houle probe` reports.
+struct TrainProbe {
+  float amplitude = 0.0f;        ///< m, local A: shoaling, refraction and diffraction applied
+  float relative_amplitude = 0.0f;  ///< A / A0 (A0 the deep-water amplitude): Ks Kr K'
+  float wavelength = 0.0f;       ///< m, local 2 pi / k
+  float direction_deg = 0.0f;    ///< direction of travel, degrees counter-clockwise from +x
+  float phase = 0.0f;            ///< rad, theta = phi - (omega t - phase) reduced to [-pi, pi]
+};
+
 class SeaSurface {
  public:
   /// `cell` is the resampling grid's spacing in m (> 0).
@@ -50,13 +59,22 @@ class SeaSurface {
   static void sample(void* context, const float* x, const float* y, std::size_t n, float* height, float* grad_x,
                      float* grad_y) noexcept;
 
+  /// Train `train` at (x, y) at the time set last.
+  TrainProbe probe(std::size_t train, float x, float y) const noexcept;
+
   const std::vector<TrainField>& trains() const noexcept { return trains_; }
   /// Bound of |h| (the sum of the largest amplitudes): for the marcher's slab.
   float height_bound() const noexcept { return height_bound_; }
 
  private:
   std::vector<TrainField> trains_;
+  struct Local {
+    float phi, amplitude, kx, ky;
+  };
+  Local local(const TrainField& f, float x, float y) const noexcept;
+
   std::vector<float> time_phase_;  ///< per train, (omega t - phase) mod 2 pi
+  std::vector<float> amplitude0_;  ///< per train, deep-water A0
   float height_bound_ = 0.0f;
 };
 
