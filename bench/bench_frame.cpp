@@ -6,8 +6,9 @@
 // frame time can be attributed. Frames advance at 30 fps of animation time (a frame is a pure
 // function of time, so every run renders the same sequence).
 //
-// The frame-time distribution: each benchmark runs as 10 repetitions and reports only the
-// aggregates (mean, median, stddev, cv and p99 over repetitions; every counter gets them too).
+// The frame-time distribution: each benchmark runs as repetitions (10, or 5 / 3 for the slow
+// variants, see repetitions()) and reports only the aggregates (mean, median, stddev, cv and p99
+// over repetitions; every counter gets them too).
 // Within a repetition, frame_p99_ms / frame_max_ms are the per-frame p99 and maximum of that
 // repetition's frames (the tail a player would see), next to the mean stage times.
 //
@@ -37,7 +38,13 @@ namespace {
 
 constexpr unsigned render_threads = 2;
 constexpr double frame_dt = 1.0 / 30.0;  // s of animation time between frames
-constexpr int repetitions = 10;
+// Repetitions per size and preset: 10 where a frame is cheap (640x360 draft and realtime), fewer
+// where one frame takes ~1 s or more on a loaded 2-core machine, so the smoke run (min_time per
+// repetition) stays short. With few repetitions p99 is the slowest repetition.
+int repetitions(houle::QualityPreset q, long width) {
+  if (q == houle::QualityPreset::film) return 3;
+  return width > 640 ? 5 : 10;
+}
 
 const houle::Scene& coast() {
   static const houle::Scene s = houle::builtin_coast();
@@ -70,7 +77,7 @@ houle::Animation* animation(houle::QualityPreset q, std::uint32_t w, std::uint32
       return nullptr;
     }
     auto p = std::make_unique<houle::Animation>(std::move(a.value()));
-    houle::Framebuffer fb(int(w), int(h));
+    houle::Framebuffer fb(static_cast<int>(w), static_cast<int>(h));
     p->render(0.0, fb);
     it = cache.emplace(key, std::move(p)).first;
   }
@@ -85,7 +92,7 @@ void bm_frame(benchmark::State& state, houle::QualityPreset q) {
     state.SkipWithError(error.c_str());
     return;
   }
-  houle::Framebuffer fb(int(w), int(h));
+  houle::Framebuffer fb(static_cast<int>(w), static_cast<int>(h));
   std::vector<double> frame_ms;
   frame_ms.reserve(std::size_t(state.max_iterations));
   double surface = 0.0, noise = 0.0, march = 0.0, intersect = 0.0, shade = 0.0;
@@ -196,7 +203,7 @@ const bool registered = [] {
           ->ArgNames({"w", "h"})
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime()
-          ->Repetitions(repetitions)
+          ->Repetitions(repetitions(q, s.w))
           ->ReportAggregatesOnly(true)
           ->ComputeStatistics("p99", p99);
     }
