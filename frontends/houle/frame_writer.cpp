@@ -15,6 +15,7 @@ namespace houle::cli {
 
 Expected<std::string> format_frame_name(const std::string& pattern, long index) {
   int conversions = 0;
+  std::size_t conversion_end = 0;  // position of the conversion's 'd'
   for (std::size_t i = 0; i < pattern.size(); ++i) {
     if (pattern[i] != '%') continue;
     if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
@@ -27,14 +28,14 @@ Expected<std::string> format_frame_name(const std::string& pattern, long index) 
       return Error{pattern, "the output pattern may only hold integer conversions like %04d"};
     }
     ++conversions;
+    conversion_end = j;
     i = j;
   }
   if (conversions != 1) {
     return Error{pattern, "the output pattern needs exactly one frame-number conversion like %04d, found " +
                               std::to_string(conversions)};
   }
-  std::string pat = pattern;
-  pat.insert(pat.find('d', pat.find('%')), "l");  // %04d -> %04ld
+  const std::string pat = pattern.substr(0, conversion_end) + "l" + pattern.substr(conversion_end);  // %04d -> %04ld
   std::vector<char> buf(pattern.size() + 32);
   std::snprintf(buf.data(), buf.size(), pat.c_str(), index);
   return std::string(buf.data());

@@ -956,30 +956,33 @@ class TrainTracer {
     out.sample_begin.assign(nr + 1, 0);
     for (std::size_t s = 0; s < samples_.size(); ++s) ++out.sample_begin[std::size_t(rank[std::size_t(samples_.ray[s])]) + 1];
     for (std::size_t i = 0; i < nr; ++i) out.sample_begin[i + 1] += out.sample_begin[i];
+    // Samples into ray order: each array is scattered through one reused buffer and swapped with it,
+    // so only one array's worth of memory is newly touched, then the arrays move into the output.
     const std::size_t ns = samples_.size();
-    out.x.resize(ns);
-    out.y.resize(ns);
-    out.theta.resize(ns);
-    out.k.resize(ns);
-    out.amplitude.resize(ns);
-    out.phase.resize(ns);
-    out.time.resize(ns);
-    out.sample_flags.resize(ns);
-    std::vector<double> a_break(ns), k_exact(ns);
-    std::vector<std::uint32_t> cursor(out.sample_begin.begin(), out.sample_begin.end() - 1);
-    for (std::size_t s = 0; s < ns; ++s) {
-      const std::size_t d = cursor[std::size_t(rank[std::size_t(samples_.ray[s])])]++;
-      out.x[d] = samples_.x[s];
-      out.y[d] = samples_.y[s];
-      out.theta[d] = samples_.theta[s];
-      out.k[d] = samples_.k[s];
-      out.amplitude[d] = samples_.amplitude[s];
-      out.phase[d] = samples_.phase[s];
-      out.time[d] = samples_.time[s];
-      out.sample_flags[d] = samples_.flags[s];
-      a_break[d] = samples_.a_break[s];
-      k_exact[d] = samples_.k_exact[s];
+    {
+      std::vector<std::uint32_t> dest(ns);
+      std::vector<std::uint32_t> cursor(out.sample_begin.begin(), out.sample_begin.end() - 1);
+      for (std::size_t s = 0; s < ns; ++s) dest[s] = cursor[std::size_t(rank[std::size_t(samples_.ray[s])])]++;
+      SampleStore& m = samples_;
+      std::vector<double> tmp(ns);
+      for (auto* v : {&m.x, &m.y, &m.theta, &m.k, &m.amplitude, &m.phase, &m.time, &m.a_break, &m.k_exact}) {
+        for (std::size_t i = 0; i < ns; ++i) tmp[dest[i]] = (*v)[i];
+        v->swap(tmp);
+      }
+      std::vector<std::uint8_t> tmp8(ns);
+      for (std::size_t i = 0; i < ns; ++i) tmp8[dest[i]] = m.flags[i];
+      m.flags.swap(tmp8);
     }
+    out.x = std::move(samples_.x);
+    out.y = std::move(samples_.y);
+    out.theta = std::move(samples_.theta);
+    out.k = std::move(samples_.k);
+    out.amplitude = std::move(samples_.amplitude);
+    out.phase = std::move(samples_.phase);
+    out.time = std::move(samples_.time);
+    out.sample_flags = std::move(samples_.flags);
+    std::vector<double>& a_break = samples_.a_break;
+    std::vector<double>& k_exact = samples_.k_exact;
     out.first_step.resize(nr);
     out.flags.resize(nr);
     out.parent_a.resize(nr);

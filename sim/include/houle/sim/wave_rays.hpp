@@ -15,14 +15,18 @@
 //   and the turn per sub-step <= 0.05 rad. A uniform floor is stepped exactly (straight lines).
 // - Amplitude: energy flux in ray tubes, incrementally, A_j+1 = A_j sqrt(Cg_j b_j / (Cg_j+1 b_j+1)),
 //   b = mean perpendicular spacing to the neighbours over the tubes that exist at both steps (a new,
-//   dead or crossed neighbour changes nothing at that step: amplitude stays continuous). In a
-//   diffraction fan b / d replaces b (eq. 7: the radial spreading is in K' already). Caps: Kr <=
-//   max_refraction_coefficient (caustics), then H <= gamma_b h and H <= 0.142 L tanh kh (breaking;
-//   the excess is dissipated and the ray flagged BROKEN).
-// - Insertion: between live neighbours of one family farther apart than b_max (never across a dead or
-//   crossed neighbour): at the midpoint on the common wavefront, bisecting direction, mean amplitude.
-//   In a diffraction fan the new ray starts at the pierhead with the bisecting angle and is traced up
-//   to the current wavefront.
+//   dead or crossed neighbour changes nothing at that step: amplitude stays continuous). Initial rays
+//   not yet in the domain (an oblique front enters at staggered phases) bound their neighbours' tubes
+//   from their straight path outside. In a diffraction fan b / d replaces b (d from the fan's origin;
+//   eq. 7: the radial spreading is in K' already). Caps: Kr <= max_refraction_coefficient
+//   (caustics), then H <= gamma_b h and H <= 0.142 L tanh kh (breaking; the excess is dissipated
+//   and the ray flagged BROKEN).
+// - Insertion: between live neighbours farther apart than b_max (never across a dead or crossed
+//   neighbour), repeated within a step until none is: at the midpoint on the common wavefront,
+//   bisecting direction, mean amplitude (a midpoint inside a wall or on land gives a dead ray, a cut).
+//   Between two rays of one diffraction fan the new ray instead starts at the pierhead with the
+//   bisecting angle and is traced up to the current wavefront.
+// - The wavenumber comes from a tabulated kh(k0h) (relative error 1e-14, sim/src/dispersion_table).
 // - Diffraction ([GL98] 2.2.1): when a ray dies on a wall and its live neighbour R1 has passed one of
 //   that wall's pierheads M, a fan of DIFFRACTED rays from R1's direction to the wall's direction is
 //   born at M (on the lee corner of a thick wall), with 22.5 degree spacing, refined later by
@@ -30,6 +34,12 @@
 //   coefficient; undiffracted samples near the shadow line carry the incident-only |G(s1)| (they
 //   bring no reflected wave), blended to 1 between v = 4 and 8 (physics.md 4.3 item 7). The two meet
 //   at the shadow line with a step of |F| - 1/2 (0.06 at r = L, 0.03 at 5 L for a rigid wall).
+//   K' is computed exactly at knots along each ray (a quarter wavelength apart, down to L/64 near
+//   the pierhead) and interpolated linearly in path length in between: within 5e-3 of the exact
+//   coefficient on the Fig. 4 scene (tests/sim/test_wave_tracing.cpp), for a fifth of the cost.
+// - Memory: every buffer is reserved once from an estimate and bounded by the caps in DwtSettings
+//   (dwt_bound); past a cap, insertion or tracing stops and DwtStats::truncated says so. This is
+//   scene-build work: nothing here runs per frame.
 //
 // Nothing here throws, prints or reads the environment; results depend only on (scene, settings).
 #pragma once
