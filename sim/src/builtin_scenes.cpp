@@ -1,35 +1,9 @@
-// The scenes houle knows without a file: the default coast and the paper's Fig. 4.
-#include <algorithm>
-#include <cmath>
-#include <numbers>
-
+// The scenes houle knows without a file: the default coast and the paper's Fig. 4 (scenes/coast.toml
+// and scenes/paper_fig4.toml are the same as files). Walls are drawn as stone blocks by the renderer
+// (make_render_scene), so they need no boxes here.
 #include "houle/sim/scene.hpp"
 
 namespace houle {
-namespace {
-
-// Stone blocks along a wall's polyline, one every `pitch` metres, for rendering. The yaw wobbles by
-// a fixed pattern so the blocks do not look machined.
-void add_blocks(Scene& s, const Wall& w, double pitch, LinearRgb stone) {
-  int n = 0;
-  for (std::size_t j = 0; j + 1 < w.points.size(); ++j) {
-    const Point2 a = w.points[j], b = w.points[j + 1];
-    const double len = std::hypot(b.x - a.x, b.y - a.y);
-    const double yaw = std::atan2(b.y - a.y, b.x - a.x) * 180.0 / std::numbers::pi;
-    const int count = std::max(1, int(std::ceil(len / pitch)));
-    for (int i = 0; i < count; ++i, ++n) {
-      const double t = (i + 0.5) / count;
-      Box box;
-      box.center = {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), 0.5 * w.crest_height - 1.0};
-      box.half_extent = {0.5 * pitch, 0.5 * w.thickness, 0.5 * w.crest_height + 1.0};
-      box.yaw_deg = yaw + double((n * 7) % 5 - 2) * 2.0;
-      box.colour = stone;
-      s.boxes.push_back(box);
-    }
-  }
-}
-
-}  // namespace
 
 Scene builtin_coast() {
   Scene s;
@@ -54,7 +28,6 @@ Scene builtin_coast() {
   jetty.reflection = 0.6;
   jetty.crest_height = 1.8;
   s.walls.push_back(jetty);
-  add_blocks(s, jetty, 3.0, {0.32f, 0.30f, 0.27f});
 
   // Three trains from the sea (south), slightly spread in direction and period.
   WaveTrain swell;
@@ -103,7 +76,6 @@ Scene paper_fig4() {
   wall.reflection = 1.0;
   wall.crest_height = 1.5;
   s.walls.push_back(wall);
-  add_blocks(s, wall, 2.0, {0.35f, 0.34f, 0.32f});
 
   // One train from the south, normal to the wall. The paper gives no wavelength; 2.5 s gives
   // L = 9.76 m (deep at 10 m), so the 100 m scene spans about five wavelengths behind the wall.

@@ -30,6 +30,12 @@ for f in "$src"/scenes/*.toml; do
   expect "shipped $(basename "$f")" 0 ': ok$' "$houle" validate "$f"
 done
 expect builtin-info 0 'trains: 3' "$houle" info
+# The built-in coast and scenes/coast.toml are the same scene.
+if diff <("$houle" info | tail -n +2) <("$houle" info "$src/scenes/coast.toml" | tail -n +2) >/dev/null; then
+  pass=$((pass + 1))
+else
+  fail=$((fail + 1)); echo "FAIL scenes/coast.toml differs from the built-in coast:"; diff <("$houle" info) <("$houle" info "$src/scenes/coast.toml")
+fi
 
 f=$(scene unknown-key '[camera]
 positon = [1, 2, 3]')

@@ -220,7 +220,7 @@ TEST(March, QualityKnobsKeepTheGuaranteeAndTradeAccuracyForEvaluations) {
   // move with the knobs (printed: this is the accuracy/time frontier the presets pick from).
   const Scene s = make_scene(40.0f, 10.0f, 11.0);
   std::mt19937 rng(555);
-  const Rays r = camera_rays(rng, 1000, s.cx, s.cy, 2.0f, 10.0f, -40.0f, -1.0f);
+  const Rays r = camera_rays(rng, 500, s.cx, s.cy, 2.0f, 10.0f, -40.0f, -1.0f);
   for (float fraction : {0.25f, 1.0f, 4.0f}) {
     for (int iterations : {0, 2, 4, 8}) {
       houle::MarchParams p = default_params();
@@ -393,7 +393,7 @@ TEST(March, WithCapillaryNoiseFindsTheFirstCrossing) {
   houle::MarchParams p = default_params();
   p.noise = &noise_frame.value();
   std::mt19937 rng(4321);
-  const Rays r = camera_rays(rng, 1500, s.cx, s.cy, 1.5f, 6.0f, -50.0f, -3.0f);
+  const Rays r = camera_rays(rng, 1000, s.cx, s.cy, 1.5f, 6.0f, -50.0f, -3.0f);
   const Comparison c = compare_with_reference(s.frame, p, r);
   print("march vs dense reference (grid + capillary noise)", c);
   EXPECT_EQ(c.missed, 0u);
@@ -552,7 +552,7 @@ TEST(March, ViewRestrictedFillServesTheCameraRays) {
     }
     EXPECT_EQ(differ, 0u);
     Rays r;
-    for (int k = 0; k < 1500; ++k) {
+    for (int k = 0; k < 800; ++k) {
       const auto d = houle::camera_ray(cam.value(), u(rng) * 1280.0f, u(rng) * 720.0f);
       r.add(cx, cy, 6.0f, d[0], d[1], d[2]);
     }
