@@ -12,22 +12,11 @@
 #include "houle/kernel/isa.hpp"
 #include "houle/kernel/march.hpp"
 #include "houle/kernel/surface_frame.hpp"
+#include "coastal_waves.hpp"
 
 namespace {
 
-// rendering.md 1.3's coastal test sea as trochoids: 7 trains, swell to 0.55 m chop.
-std::vector<houle::GerstnerWave> coastal_waves() {
-  const double trains[][3] = {{0.6, 40, 0}, {0.3, 17, 25}, {0.15, 8, -40}, {0.08, 4, 70},
-                              {0.04, 2.1, 10}, {0.02, 1.1, -65}, {0.01, 0.55, 35}};
-  std::vector<houle::GerstnerWave> w;
-  int i = 0;
-  for (const auto& t : trains) {
-    const double k = 2 * 3.141592653589793 / t[1], a = t[2] * 3.141592653589793 / 180;
-    w.push_back({float(std::cos(a)), float(std::sin(a)), float(k), float(t[0]), 0.5f, float(std::sqrt(9.81 * k)),
-                 float(1.3 * i++)});
-  }
-  return w;
-}
+using houle::test::coastal_waves;
 
 struct BenchScene {
   houle::SurfaceFrame frame;
