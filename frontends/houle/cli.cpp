@@ -3,6 +3,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "houle/sim/animation.hpp"
+
 namespace houle::cli {
 
 Args::Args(std::string command, std::span<char* const> argv)
@@ -59,6 +61,22 @@ std::vector<std::string> Args::rest() {
     }
   }
   return out;
+}
+
+void take_quality(Args& args, QualityPreset& quality) {
+  if (auto v = args.value("--quality")) {
+    const auto q = parse_quality(*v);
+    if (!q) args.fail("--quality expects draft, realtime or film, got '" + *v + "'");
+    else quality = *q;
+  }
+}
+
+void take_threads(Args& args, unsigned& threads) {
+  if (auto v = args.value("--threads")) {
+    const auto n = parse_int(*v);
+    if (!n || *n < 1 || *n > 256) args.fail("--threads expects a count in 1..256, got '" + *v + "'");
+    else threads = unsigned(*n);
+  }
 }
 
 std::optional<double> parse_double(std::string_view text) {

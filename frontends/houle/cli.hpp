@@ -1,11 +1,16 @@
 // Command-line parsing shared by houle's commands: options, values, and errors that say what was
 // expected. Parsing never exits; commands turn a CliError into a message and exit code 2.
 #pragma once
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
+
+namespace houle {
+enum class QualityPreset : std::uint8_t;  // houle/sim/animation.hpp
+}
 
 namespace houle::cli {
 
@@ -39,6 +44,11 @@ class Args {
   std::vector<bool> used_;
   std::optional<CliError> error_;
 };
+
+/// The options several commands share: `--quality Q` (draft, realtime, film) and `--threads N`
+/// (1..256), stored when present; a bad value fails `args`.
+void take_quality(Args& args, QualityPreset& quality);
+void take_threads(Args& args, unsigned& threads);
 
 std::optional<double> parse_double(std::string_view text);
 std::optional<long long> parse_int(std::string_view text);

@@ -52,16 +52,8 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
     if (!s) args.fail("--size expects WxH with each in 1..16384, got '" + *v + "'");
     else width = s->first, height = s->second;
   }
-  if (auto v = args.value("--quality")) {
-    const auto q = parse_quality(*v);
-    if (!q) args.fail("--quality expects draft, realtime or film, got '" + *v + "'");
-    else quality = *q;
-  }
-  if (auto v = args.value("--threads")) {
-    const auto n = parse_int(*v);
-    if (!n || *n < 1 || *n > 256) args.fail("--threads expects a count in 1..256, got '" + *v + "'");
-    else threads = unsigned(*n);
-  }
+  take_quality(args, quality);
+  take_threads(args, threads);
   const bool json = args.flag("--json");
   const std::vector<std::string> positionals = args.rest();
   if (args.failed()) {

@@ -1,19 +1,80 @@
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <string>
 
 #include "cli.hpp"
 #include "commands.hpp"
+#include "houle/sim/effect_plan.hpp"
+#include "houle/sim/sea_surface.hpp"
 #include "scene_source.hpp"
 
 namespace houle::cli {
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A JSON string literal of `s` (quotes, backslashes and control characters escaped).
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(static_cast<unsigned char>(c)));
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+template <class T>
+std::size_t bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+// Heap bytes held by one train's rays.
+std::size_t ray_bytes(const WaveRays& w) {
+  return bytes(w.sample_begin) + bytes(w.first_step) + bytes(w.flags) + bytes(w.parent_a) + bytes(w.parent_b) +
+         bytes(w.pierhead) + bytes(w.x) + bytes(w.y) + bytes(w.theta) + bytes(w.k) + bytes(w.amplitude) + bytes(w.phase) +
+         bytes(w.time) + bytes(w.sample_flags) + bytes(w.pierheads);
+}
+
+std::size_t diffracted_rays(const WaveRays& w) {
+  std::size_t n = 0;
+  for (const std::uint8_t f : w.flags) n += (f & ray_flag::diffracted) ? 1 : 0;
+  return n;
+}
+
+const char* yes(bool b) { return b ? "yes" : "no"; }
+const char* json_bool(bool b) { return b ? "true" : "false"; }
+
+}  // namespace
 
 int cmd_info(std::span<char* const> argv) {
   Args args("info", argv);
   if (args.flag("--help")) {
-    std::puts("usage: houle info [SCENE]\n\nDescribes a scene (the built-in coast without SCENE): domain, sea floor, wave trains,\nstructures and objects.");
+    std::puts(R"(usage: houle info [SCENE] [--quality Q] [--threads N] [--json]
+
+Describes a scene (the built-in coast without SCENE): domain, sea floor, wave trains, structures and
+objects; the effect plan at quality Q (default realtime: which stages run); then builds it and
+reports per train whether it is traced, its rays, diffracted rays and samples, the reflected waves,
+the memory the rays and the resampled sea hold, and the scene build time (tracing and resampling,
+N threads, default 2). --json prints the same facts as one JSON object.)");
     return 0;
   }
+  QualityPreset quality = QualityPreset::realtime;
+  unsigned threads = 2;
+  take_quality(args, quality);
+  take_threads(args, threads);
+  const bool json = args.flag("--json");
   const std::vector<std::string> positionals = args.rest();
   if (args.failed()) {
     std::fprintf(stderr, "houle %s\n", args.error().message.c_str());
@@ -22,7 +83,74 @@ int cmd_info(std::span<char* const> argv) {
   const std::optional<Scene> scene = scene_from_args(positionals, "info");
   if (!scene) return 2;
   const Scene& s = *scene;
-  std::printf("scene: %s\n", positionals.empty() ? "built-in coast" : positionals[0].c_str());
+  const Quality q = quality_preset(quality);
+  const EffectPlan plan = plan_effects(s, q);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  Expected<WaveField> field = trace_wave_field(s, threads);
+  const double trace_ms = ms_since(t0);
+  if (!field) {
+    std::fprintf(stderr, "houle info: %s: %s\n", field.error().field.c_str(), field.error().message.c_str());
+    return 2;
+  }
+  const auto t1 = std::chrono::steady_clock::now();
+  Expected<SeaSurface> sea = SeaSurface::build(s, field.value(), q.sea_cell);
+  const double sea_ms = ms_since(t1);
+  if (!sea) {
+    std::fprintf(stderr, "houle info: %s\n", sea.error().message.c_str());
+    return 1;
+  }
+  std::size_t rays_memory = 0, sea_memory = 0;
+  for (const WaveRays& w : field->trains) rays_memory += ray_bytes(w);
+  for (const ReflectedWave& r : field->reflections) rays_memory += ray_bytes(r.rays);
+  for (const TrainField& f : sea->trains()) sea_memory += bytes(f.phi) + bytes(f.amplitude) + bytes(f.kx) + bytes(f.ky);
+  const DwtStats& st = field->stats;
+  const std::string name = positionals.empty() ? "built-in coast" : positionals[0];
+
+  if (json) {
+    std::printf("{\"scene\": %s, \"quality\": \"%s\", \"threads\": %u,\n", json_string(name).c_str(),
+                quality_name(quality).data(), threads);
+    std::printf(" \"domain\": [%g, %g, %g, %g], \"walls\": %zu, \"boxes\": %zu, \"spheres\": %zu,\n", s.domain.x_min,
+                s.domain.y_min, s.domain.x_max, s.domain.y_max, s.walls.size(), s.boxes.size(), s.spheres.size());
+    std::printf(" \"plan\": {\"ray_tracing\": %s, \"diffraction\": %s, \"wall_reflection\": %s, \"capillary_noise\": %s, "
+                "\"refraction\": %s, \"specular\": %s, \"shadows\": %s, \"reflect_objects\": %s},\n",
+                json_bool(plan.ray_tracing), json_bool(plan.diffraction), json_bool(plan.wall_reflection),
+                json_bool(plan.capillary_noise), json_bool(plan.refraction), json_bool(plan.specular),
+                json_bool(plan.shadows), json_bool(plan.reflect_objects));
+    std::printf(" \"trains\": [");
+    for (std::size_t i = 0; i < s.trains.size(); ++i) {
+      const WaveTrain& t = s.trains[i];
+      const WaveRays& w = field->trains[i];
+      const double omega = train_omega(t);
+      const Point2 d = train_direction(t);
+      std::printf("%s\n  {\"period_s\": %.6g, \"deep_wavelength_m\": %.6g, \"amplitude_m\": %g, \"direction_deg\": %.6g, "
+                  "\"traced\": %s, \"rays\": %zu, \"diffracted_rays\": %zu, \"samples\": %zu}",
+                  i ? "," : "", 2.0 * std::numbers::pi / omega, 2.0 * std::numbers::pi * 9.81 / (omega * omega),
+                  t.amplitude, std::atan2(d.y, d.x) * 180.0 / std::numbers::pi, json_bool(plan.train_rays[i]),
+                  w.ray_count(), diffracted_rays(w), w.sample_count());
+    }
+    std::printf("],\n \"reflections\": [");
+    for (std::size_t i = 0; i < field->reflections.size(); ++i) {
+      const ReflectedWave& r = field->reflections[i];
+      std::printf("%s{\"train\": %zu, \"rays\": %zu, \"samples\": %zu}", i ? ", " : "", r.train, r.rays.ray_count(),
+                  r.rays.sample_count());
+    }
+    std::printf("],\n \"totals\": {\"rays\": %llu, \"initial_rays\": %llu, \"inserted_rays\": %llu, \"diffracted_rays\": %llu, "
+                "\"reflected_rays\": %llu, \"samples\": %llu, \"steps\": %llu, \"fans\": %llu, \"diffraction_evaluations\": %llu, "
+                "\"crossings\": %llu, \"broken_rays\": %llu, \"truncated\": %s},\n",
+                static_cast<unsigned long long>(st.rays), static_cast<unsigned long long>(st.initial_rays),
+                static_cast<unsigned long long>(st.inserted_rays), static_cast<unsigned long long>(st.diffracted_rays),
+                static_cast<unsigned long long>(st.reflected_rays), static_cast<unsigned long long>(st.samples),
+                static_cast<unsigned long long>(st.steps), static_cast<unsigned long long>(st.fans),
+                static_cast<unsigned long long>(st.diffraction_evaluations), static_cast<unsigned long long>(st.crossings),
+                static_cast<unsigned long long>(st.broken_rays), json_bool(st.truncated));
+    std::printf(" \"memory_bytes\": {\"rays\": %zu, \"sea_grid\": %zu},\n", rays_memory, sea_memory);
+    std::printf(" \"build_ms\": {\"trace\": %.3f, \"sea_surface\": %.3f, \"total\": %.3f}}\n", trace_ms, sea_ms,
+                trace_ms + sea_ms);
+    return 0;
+  }
+
+  std::printf("scene: %s\n", name.c_str());
   std::printf("domain: [%g, %g] x [%g, %g] m\n", s.domain.x_min, s.domain.x_max, s.domain.y_min, s.domain.y_max);
   std::printf("sea floor: %s, depth %g m; %zu shoals, %zu bars, %zu channels%s\n",
               s.floor.base.kind == FloorKind::flat ? "flat" : "planar beach", s.floor.base.depth, s.floor.shoals.size(),
@@ -30,14 +158,37 @@ int cmd_info(std::span<char* const> argv) {
   std::printf("trains: %zu\n", s.trains.size());
   for (std::size_t i = 0; i < s.trains.size(); ++i) {
     const WaveTrain& t = s.trains[i];
+    const WaveRays& w = field->trains[i];
     const double omega = train_omega(t);
     const Point2 d = train_direction(t);
     std::printf("  [%zu] period %.3g s, deep-water wavelength %.4g m, amplitude %g m, towards %.1f deg\n", i,
                 2.0 * std::numbers::pi / omega, 2.0 * std::numbers::pi * 9.81 / (omega * omega), t.amplitude,
                 std::atan2(d.y, d.x) * 180.0 / std::numbers::pi);
+    if (plan.train_rays[i]) {
+      std::printf("      traced: %zu rays (%zu diffracted), %zu samples\n", w.ray_count(), diffracted_rays(w), w.sample_count());
+    } else {
+      std::printf("      analytic: straight crests, no rays\n");
+    }
+  }
+  for (const ReflectedWave& r : field->reflections) {
+    std::printf("  reflected wave of [%zu]: %zu rays, %zu samples\n", r.train, r.rays.ray_count(), r.rays.sample_count());
   }
   std::printf("walls: %zu, boxes: %zu, spheres: %zu\n", s.walls.size(), s.boxes.size(), s.spheres.size());
   std::printf("capillary ripples: %s\n", s.capillary.amplitude > 0.0 ? "on" : "off");
+  std::printf("effect plan (%s): ray tracing %s, diffraction %s, wall reflection %s, capillary noise %s, refraction %s, "
+              "specular %s, shadows %s, object reflections %s\n",
+              quality_name(quality).data(), yes(plan.ray_tracing), yes(plan.diffraction), yes(plan.wall_reflection),
+              yes(plan.capillary_noise), yes(plan.refraction), yes(plan.specular), yes(plan.shadows),
+              yes(plan.reflect_objects));
+  std::printf("rays: %llu (%llu initial, %llu inserted, %llu diffracted, %llu reflected), %llu samples, %llu diffraction "
+              "evaluations%s\n",
+              static_cast<unsigned long long>(st.rays), static_cast<unsigned long long>(st.initial_rays),
+              static_cast<unsigned long long>(st.inserted_rays), static_cast<unsigned long long>(st.diffracted_rays),
+              static_cast<unsigned long long>(st.reflected_rays), static_cast<unsigned long long>(st.samples),
+              static_cast<unsigned long long>(st.diffraction_evaluations), st.truncated ? " (TRUNCATED at a cap)" : "");
+  std::printf("memory: rays %.2f MiB, sea grids %.2f MiB\n", double(rays_memory) / 1048576.0, double(sea_memory) / 1048576.0);
+  std::printf("build time: %.2f ms (tracing %.2f ms, resampling %.2f ms, %u threads)\n", trace_ms + sea_ms, trace_ms, sea_ms,
+              threads);
   return 0;
 }
 

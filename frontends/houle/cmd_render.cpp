@@ -90,16 +90,8 @@ int cmd_render(std::span<char* const> argv) {
     if (!s) args.fail("--size expects WxH with each in 1..16384, got '" + *v + "'");
     else o.width = s->first, o.height = s->second;
   }
-  if (auto v = args.value("--quality")) {
-    const auto q = parse_quality(*v);
-    if (!q) args.fail("--quality expects draft, realtime or film, got '" + *v + "'");
-    else o.quality = *q;
-  }
-  if (auto v = args.value("--threads")) {
-    const auto n = parse_int(*v);
-    if (!n || *n < 1 || *n > 256) args.fail("--threads expects a count in 1..256, got '" + *v + "'");
-    else o.threads = unsigned(*n);
-  }
+  take_quality(args, o.quality);
+  take_threads(args, o.threads);
   if (auto v = args.value("--out")) o.out = *v, o.default_out = false;
   o.raw = args.value("--raw");
   if (auto v = args.value("--pixel-format")) {

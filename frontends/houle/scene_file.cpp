@@ -360,6 +360,7 @@ void read_scene(const toml::table& root, Scene& s, Context& ctx) {
     b.number("breaker_index", d.breaker_index);
     b.number("max_refraction_coefficient", d.max_refraction_coefficient);
     b.boolean("diffraction", d.diffraction);
+    b.boolean("reflection", d.reflection);
     b.choice("diffraction_model", d.diffraction_model,
              {{"exact", DiffractionModel::exact}, {"paper", DiffractionModel::paper}, {"paper-corrected", DiffractionModel::paper_corrected}});
     b.integer("max_rays", d.max_rays);

@@ -1,4 +1,5 @@
 #include "houle/sim/animation.hpp"
+#include "houle/sim/effect_plan.hpp"
 
 #include <array>
 #include <chrono>
@@ -66,20 +67,23 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   Expected<Camera> camera = make_camera(cp);
   if (!camera) return Error{"camera", camera.error().message};
 
+  // The tracer and the noise follow the same plan (train_needs_rays, pierheads, capillary amplitude);
+  // the renderer gets its skipped stages switched off.
+  const EffectPlan plan = plan_effects(s, quality);
   Expected<WaveField> waves = trace_wave_field(s, std::max(threads, 1u));
   if (!waves) return waves.error();
   Expected<SeaSurface> sea = SeaSurface::build(s, waves.value(), quality.sea_cell);
   if (!sea) return sea.error();
   Expected<SurfaceFrame> surface = SurfaceFrame::create(quality.surface);
   if (!surface) return Error{"quality.surface", surface.error().message};
-  Expected<Renderer> renderer = Renderer::create(make_render_scene(s), width, height, quality.render, threads);
+  Expected<Renderer> renderer = Renderer::create(make_render_scene(s), width, height, planned_quality(plan, quality).render, threads);
   if (!renderer) return Error{"render", renderer.error().message};
 
   Animation a(std::move(renderer.value()), std::move(surface.value()));
   a.waves_ = std::make_unique<WaveField>(std::move(waves.value()));
   a.sea_ = std::make_unique<SeaSurface>(std::move(sea.value()));
   a.camera_ = camera.value();
-  if (s.capillary.amplitude > 0.0 && s.capillary.max_octaves > 0) {
+  if (plan.capillary_noise) {
     CapillaryParams p;
     p.amplitude = float(s.capillary.amplitude);
     p.base_wavelength = float(s.capillary.base_wavelength);
@@ -107,6 +111,7 @@ void Animation::render(double time_s, Framebuffer& out) noexcept {
     if (Expected<CapillaryFrame> f = make_capillary_frame(*noise_params_, time_s)) {
       noise_ = f.value();
       noise = &noise_;
+      ++noise_frames_;
       const float top = float(noise_params_->max_octaves);
       surface_.set_noise_bounds(capillary_height_bound(*noise_params_, top), capillary_slope_bound(*noise_params_, top));
     }

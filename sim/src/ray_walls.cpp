@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace houle::detail {
 namespace {
@@ -98,6 +99,25 @@ WallHit first_wall_hit(const std::vector<Capsule>& capsules, double x0, double y
     if (u < best.u) best = WallHit{true, u, c.wall};
   }
   return best;
+}
+
+bool wall_normal(const std::vector<Capsule>& capsules, std::uint32_t wall, double x, double y, double& nx,
+                 double& ny) noexcept {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Capsule& c : capsules) {
+    if (c.wall != wall) continue;
+    const double ex = c.bx - c.ax, ey = c.by - c.ay;
+    const double len2 = ex * ex + ey * ey;
+    const double t = len2 > 0.0 ? clamp01(((x - c.ax) * ex + (y - c.ay) * ey) / len2) : 0.0;
+    const double dx = x - (c.ax + t * ex), dy = y - (c.ay + t * ey);
+    const double d2 = dx * dx + dy * dy;
+    if (d2 < best) best = d2, nx = dx, ny = dy;
+  }
+  if (!(best > 0.0) || !std::isfinite(best)) return false;
+  const double n = std::sqrt(best);
+  nx /= n;
+  ny /= n;
+  return true;
 }
 
 std::vector<PierheadSite> pierhead_sites(const Scene& scene, const Bathymetry& floor, double h_min) {

@@ -32,6 +32,11 @@ std::vector<Capsule> wall_capsules(const std::vector<Wall>& walls);
 /// along it, does not hit (so rays can start on a wall's surface and graze its face).
 WallHit first_wall_hit(const std::vector<Capsule>& capsules, double x0, double y0, double x1, double y1) noexcept;
 
+/// Outward unit normal of wall `wall`'s surface at the point (x, y) on it (from the nearest of its
+/// capsules' axes); false if the point lies on an axis (no direction) or the wall has no capsule.
+bool wall_normal(const std::vector<Capsule>& capsules, std::uint32_t wall, double x, double y, double& nx,
+                 double& ny) noexcept;
+
 /// A wall end that can diffract: inside the domain (farther than the wall's radius from its edges) and
 /// in water deeper than h_min.
 struct PierheadSite {

@@ -88,16 +88,22 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
   SeaSurface s;
   const Bathymetry floor(scene.floor);
   const Domain& d = scene.domain;
-  for (std::size_t t = 0; t < field.trains.size(); ++t) {
-    const WaveRays& rays = field.trains[t];
+  // The trains, then the reflected waves (fields after the trains': probe() indexes the trains).
+  const std::size_t count = field.trains.size() + field.reflections.size();
+  for (std::size_t t = 0; t < count; ++t) {
+    const bool reflection = t >= field.trains.size();
+    const std::size_t train = reflection ? field.reflections[t - field.trains.size()].train : t;
+    if (train >= scene.trains.size()) return Error{"field", "a reflected wave of a train the scene has"};
+    const WaveRays& rays = reflection ? field.reflections[t - field.trains.size()].rays : field.trains[t];
     TrainField f;
     f.omega = rays.omega;
-    f.phase = scene.trains[t].phase;
-    f.steepness = float(scene.trains[t].steepness);
+    f.phase = scene.trains[train].phase;
+    f.steepness = float(scene.trains[train].steepness);
     // Entry depth: where the train's rays come in, the domain's upstream edge centre.
     const double cx = 0.5 * (d.x_min + d.x_max) - rays.direction_x * 0.5 * (d.x_max - d.x_min);
     const double cy = 0.5 * (d.y_min + d.y_max) - rays.direction_y * 0.5 * (d.y_max - d.y_min);
     set_far_field(f, scene, rays, floor.depth(std::clamp(cx, d.x_min, d.x_max), std::clamp(cy, d.y_min, d.y_max)));
+    if (reflection) f.far_amplitude = 0.0f;  // a reflected wave exists only where its rays went
     if (!rays.analytic) {
       f.origin_x = float(d.x_min);
       f.origin_y = float(d.y_min);

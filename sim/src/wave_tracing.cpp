@@ -30,6 +30,8 @@ struct Entry {
   double x = 0.0, y = 0.0;  // where the ray enters the domain, m
   double phi = 0.0;         // rad, k_entry * distance from the upstream wavefront
   double tau = 0.0;         // s
+  double theta = 0.0;       // rad, direction of travel
+  double amplitude = 0.0;   // m, a_geo at the entry point
   LocalWave wave{};
   bool water = false;       // false: the entry point is land (or shallower than h_min)
 };
@@ -120,6 +122,8 @@ Front make_front(const Scene& scene, std::size_t train, const DwtSettings& set, 
     e.water = true;
     e.phi = e.wave.k * t0;
     e.tau = t0 / e.wave.cg;
+    e.theta = std::atan2(f.dy, f.dx);
+    e.amplitude = t.amplitude * e.wave.ks;
     f.k_ref = std::min(f.k_ref, e.wave.k);
   }
   if (std::isfinite(f.k_ref)) f.dphi = f.k_ref * set.step;
@@ -218,17 +222,20 @@ enum class Stop : std::uint8_t { none, wall, domain, shore };
 
 class TrainTracer {
  public:
+  // The incident train, from its entry front.
   TrainTracer(const Scene& scene, std::size_t train, const DwtSettings& set)
       : scene_(scene), set_(set), floor_(scene.floor), train_(scene.trains[train]) {
-    const double omega = train_omega(train_);
-    const double l0 = two_pi / deep_water_wavenumber(omega);
-    h_min_ = std::max(set.min_depth, set.min_depth_wavelengths * l0);
-    medium_ = make_medium(scene, floor_, omega, h_min_);
+    init_medium();
     front_ = make_front(scene, train, set, medium_);
-    capsules_ = wall_capsules(scene.walls);
     if (set.diffraction) sites_ = pierhead_sites(scene, floor_, h_min_);
     site_used_.assign(sites_.size(), false);
-    path_max_ = path_limit(scene.domain);
+  }
+  // The train's reflected wave, seeded where `incident`'s rays ended on reflecting walls.
+  TrainTracer(const Scene& scene, std::size_t train, const DwtSettings& set, const WaveRays& incident)
+      : scene_(scene), set_(set), floor_(scene.floor), train_(scene.trains[train]) {
+    init_medium();
+    reflected_ = true;
+    front_ = reflected_front(incident);
   }
 
   WaveRays run(DwtStats& stats) {
@@ -265,6 +272,77 @@ class TrainTracer {
  private:
   // ---- setup ----
 
+  void init_medium() {
+    const double omega = train_omega(train_);
+    const double l0 = two_pi / deep_water_wavenumber(omega);
+    h_min_ = std::max(set_.min_depth, set_.min_depth_wavelengths * l0);
+    medium_ = make_medium(scene_, floor_, omega, h_min_);
+    capsules_ = wall_capsules(scene_.walls);
+    path_max_ = path_limit(scene_.domain);
+  }
+
+  // Seeds of the reflected wave: the end points of `incident`'s undiffracted rays that hit a wall
+  // with alpha > 0, in reverse order (the mirror image reverses left and right), mirrored about the
+  // wall's normal there, with amplitude alpha A and the incident phase and time (phase continuous).
+  // A cut (an entry on "land": a dead ray with no samples) separates seeds whose incident rays were
+  // not neighbours on the same wall, so no tube joins them.
+  Front reflected_front(const WaveRays& in) const {
+    Front f;
+    f.omega = in.omega;
+    f.k0 = deep_water_wavenumber(in.omega);
+    f.l0 = two_pi / f.k0;
+    f.dx = in.direction_x;
+    f.dy = in.direction_y;
+    f.h_min = h_min_;
+    f.dphi = in.phase_step;
+    f.k_ref = in.phase_step / set_.step;
+    std::int64_t previous_wall = -1;  // wall of the last seed, -1 after a cut
+    for (std::size_t q = in.ray_count(); q-- > 0;) {
+      const std::size_t end = in.sample_begin[q + 1];
+      const bool hit = (in.flags[q] & ray_flag::hit_wall) && !(in.flags[q] & ray_flag::diffracted) && end > in.sample_begin[q];
+      std::uint32_t wall = 0;
+      Entry e;
+      double nx = 0.0, ny = 0.0;
+      if (hit) {
+        const std::size_t s = end - 1;
+        e.x = in.x[s];
+        e.y = in.y[s];
+        e.water = wall_of(e.x, e.y, wall) && scene_.walls[wall].reflection > 0.0 && in.amplitude[s] > 0.0 &&
+                  wall_normal(capsules_, wall, e.x, e.y, nx, ny);
+        if (e.water) {
+          const double dx = std::cos(in.theta[s]), dy = std::sin(in.theta[s]);
+          const double dn = dx * nx + dy * ny;
+          e.theta = std::atan2(dy - 2.0 * dn * ny, dx - 2.0 * dn * nx);
+          e.phi = in.phase[s];
+          e.tau = in.time[s];
+          e.amplitude = scene_.walls[wall].reflection * in.amplitude[s];
+          e.wave = wave_at(medium_, e.x, e.y);
+        }
+      }
+      if (!e.water) {
+        if (previous_wall >= 0) f.entries.push_back(Entry{});
+        previous_wall = -1;
+        continue;
+      }
+      if (previous_wall >= 0 && previous_wall != std::int64_t(wall)) f.entries.push_back(Entry{});
+      f.entries.push_back(e);
+      previous_wall = wall;
+    }
+    return f;
+  }
+
+  // The wall whose surface (x, y) lies on: the nearest capsule.
+  bool wall_of(double x, double y, std::uint32_t& wall) const noexcept {
+    double best = std::numeric_limits<double>::infinity();
+    for (const Capsule& c : capsules_) {
+      const double ex = c.bx - c.ax, ey = c.by - c.ay, len2 = ex * ex + ey * ey;
+      const double t = len2 > 0.0 ? std::clamp(((x - c.ax) * ex + (y - c.ay) * ey) / len2, 0.0, 1.0) : 0.0;
+      const double d = std::fabs(dist(x - c.ax - t * ex, y - c.ay - t * ey) - c.radius);
+      if (d < best) best = d, wall = c.wall;
+    }
+    return best < 1e-6;
+  }
+
   double max_k() const noexcept {
     // The shortest waves are at h_min: no ray has more phase per metre.
     return wave_from_depth(medium_, h_min_).k;
@@ -287,17 +365,17 @@ class TrainTracer {
       ++stats_.initial_rays;
       ++stats_.rays;
       if (!e.water) {
-        // Enters on land: a cut in the front, with no samples.
+        // Enters on land (or separates two walls' reflections): a cut in the front, with no samples.
         r.alive = false;
-        r.flags = ray_flag::dead | ray_flag::reached_shore;
-        ++stats_.reached_shore;
+        r.flags = reflected_ ? ray_flag::dead : ray_flag::dead | ray_flag::reached_shore;
+        if (!reflected_) ++stats_.reached_shore;
         continue;
       }
-      r.st = RayState{e.x, e.y, std::atan2(front_.dy, front_.dx), e.phi, 0.0, e.tau};
+      r.st = RayState{e.x, e.y, e.theta, e.phi, 0.0, e.tau};
       r.sync_direction();
       r.theta0 = r.st.theta;
       r.w = e.wave;
-      r.a_geo = train_.amplitude * e.wave.ks;
+      r.a_geo = e.amplitude;
       r.cg_prev = r.w.cg;
       r.entering = true;
       any_alive_ = true;
@@ -1081,12 +1159,21 @@ class TrainTracer {
   std::int64_t first_step_ = 0;
   bool any_alive_ = false;
   bool truncated_ = false;
+  bool reflected_ = false;  // tracing a reflected wave (seeded on walls, not from the entry front)
 };
 
 Expected<Scene> checked(const Scene& scene, const DwtSettings& settings) {
   Scene copy = scene;
   copy.dwt = settings;
   return validate(std::move(copy));
+}
+
+// The same, and `train` must be one of its trains.
+Expected<Scene> checked(const Scene& scene, const DwtSettings& settings, std::size_t train) {
+  if (train >= scene.trains.size()) {
+    return Error{"trains", "an index below " + std::to_string(scene.trains.size()) + ", got " + std::to_string(train)};
+  }
+  return checked(scene, settings);
 }
 
 }  // namespace
@@ -1106,6 +1193,7 @@ DwtStats& DwtStats::operator+=(const DwtStats& o) noexcept {
   wall_hits += o.wall_hits;
   left_domain += o.left_domain;
   reached_shore += o.reached_shore;
+  reflected_rays += o.reflected_rays;
   insertions_refused += o.insertions_refused;
   truncated = truncated || o.truncated;
   return *this;
@@ -1116,6 +1204,11 @@ bool scene_has_pierheads(const Scene& scene) noexcept {
   const Bathymetry floor(scene.floor);
   // h_min is per train; the smallest possible (min_depth) keeps this a safe over-estimate.
   return !detail::pierhead_sites(scene, floor, scene.dwt.min_depth).empty();
+}
+
+bool scene_has_reflecting_walls(const Scene& scene) noexcept {
+  if (!scene.dwt.reflection) return false;
+  return std::any_of(scene.walls.begin(), scene.walls.end(), [](const Wall& w) { return w.reflection > 0.0; });
 }
 
 bool train_needs_rays(const Scene& scene, std::size_t train) noexcept {
@@ -1150,11 +1243,8 @@ DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& set
 }
 
 Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtSettings& settings, DwtStats* stats) {
-  auto valid = detail::checked(scene, settings);
+  auto valid = detail::checked(scene, settings, train);
   if (!valid.ok()) return valid.error();
-  if (train >= scene.trains.size()) {
-    return Error{"trains", "an index below " + std::to_string(scene.trains.size()) + ", got " + std::to_string(train)};
-  }
   DwtStats local;
   DwtStats& st = stats ? *stats : local;
   st = DwtStats{};
@@ -1178,6 +1268,27 @@ Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtS
   return tracer.run(st);
 }
 
+Expected<WaveRays> trace_reflection(const Scene& scene, std::size_t train, const WaveRays& incident,
+                                    const DwtSettings& settings, DwtStats* stats) {
+  auto valid = detail::checked(scene, settings, train);
+  if (!valid.ok()) return valid.error();
+  DwtStats local;
+  DwtStats& st = stats ? *stats : local;
+  st = DwtStats{};
+  WaveRays none;
+  none.omega = incident.omega;
+  none.direction_x = incident.direction_x;
+  none.direction_y = incident.direction_y;
+  none.amplitude0 = incident.amplitude0;
+  none.phase_step = incident.phase_step;
+  none.min_depth = incident.min_depth;
+  if (!valid->dwt.reflection || incident.analytic || !scene_has_reflecting_walls(valid.value())) return none;
+  detail::TrainTracer tracer(valid.value(), train, valid->dwt, incident);
+  WaveRays out = tracer.run(st);
+  st.reflected_rays = st.rays;
+  return out;
+}
+
 Expected<WaveField> trace_wave_field(const Scene& scene, unsigned threads) {
   return trace_wave_field(scene, scene.dwt, threads);
 }
@@ -1186,10 +1297,13 @@ Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& sett
   auto valid = detail::checked(scene, settings);
   if (!valid.ok()) return valid.error();
   const std::size_t n = scene.trains.size();
-  std::vector<std::optional<Expected<WaveRays>>> results(n);
-  std::vector<DwtStats> stats(n);
+  std::vector<std::optional<Expected<WaveRays>>> results(n), reflected(n);
+  std::vector<DwtStats> stats(n), reflected_stats(n);
   auto work = [&](std::size_t first, std::size_t step) {
-    for (std::size_t i = first; i < n; i += step) results[i].emplace(trace_train(valid.value(), i, settings, &stats[i]));
+    for (std::size_t i = first; i < n; i += step) {
+      results[i].emplace(trace_train(valid.value(), i, settings, &stats[i]));
+      if (results[i]->ok()) reflected[i].emplace(trace_reflection(valid.value(), i, results[i]->value(), settings, &reflected_stats[i]));
+    }
   };
   const std::size_t workers = std::min<std::size_t>(std::max(1u, threads), n);
   if (workers <= 1) {
@@ -1205,8 +1319,13 @@ Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& sett
   WaveField field;
   for (std::size_t i = 0; i < n; ++i) {
     if (!results[i]->ok()) return results[i]->error();
+    if (!reflected[i]->ok()) return reflected[i]->error();
     field.trains.push_back(std::move(*results[i]).value());
     field.stats += stats[i];
+    if (reflected[i]->value().sample_count() > 0) {
+      field.reflections.push_back(ReflectedWave{i, std::move(*reflected[i]).value()});
+      field.stats += reflected_stats[i];
+    }
   }
   return field;
 }

@@ -493,6 +493,14 @@ TEST(WaveTracing, DeterministicAcrossRunsAndThreadCounts) {
     EXPECT_TRUE(all_finite(one->trains[t]));
   }
   EXPECT_EQ(one->stats.samples, three->stats.samples);
+  // The jetty reflects (alpha > 0): its reflected waves too.
+  ASSERT_FALSE(one->reflections.empty());
+  ASSERT_EQ(one->reflections.size(), two->reflections.size());
+  for (std::size_t i = 0; i < one->reflections.size(); ++i) {
+    EXPECT_EQ(one->reflections[i].train, two->reflections[i].train);
+    expect_identical(one->reflections[i].rays, two->reflections[i].rays);
+    EXPECT_TRUE(all_finite(one->reflections[i].rays));
+  }
   const WaveRays a = trace(houle::paper_fig4()), b = trace(houle::paper_fig4());
   expect_identical(a, b);
 }

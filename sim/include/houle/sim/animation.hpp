@@ -58,6 +58,8 @@ class Animation {
   const Renderer& renderer() const noexcept { return renderer_; }
   const Camera& camera() const noexcept { return camera_; }
   double build_ms() const noexcept { return build_ms_; }
+  /// Frames that built a capillary noise frame: 0 when the effect plan skips the noise.
+  std::uint64_t noise_frames() const noexcept { return noise_frames_; }
 
  private:
   Animation(Renderer renderer, SurfaceFrame surface) : renderer_(std::move(renderer)), surface_(std::move(surface)) {}
@@ -71,6 +73,7 @@ class Animation {
   CapillaryFrame noise_{};
   AnimationTimes times_{};
   double build_ms_ = 0.0;
+  std::uint64_t noise_frames_ = 0;
 };
 
 }  // namespace houle

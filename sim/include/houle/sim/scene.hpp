@@ -195,6 +195,8 @@ struct DwtSettings {
   /// Diffraction at pierheads: behind each one a fan of DIFFRACTED rays carries K' of this model.
   bool diffraction = true;
   DiffractionModel diffraction_model = DiffractionModel::exact;
+  /// Reflection on walls with alpha > 0: the rays that hit them seed a reflected wave (wave_rays.hpp).
+  bool reflection = true;
   /// Caps that bound memory and time (dwt_bound); beyond them insertion stops and the stats say so.
   std::uint32_t max_rays = 1u << 15;      ///< per train
   std::uint32_t max_samples = 1u << 22;   ///< per train

@@ -1,4 +1,5 @@
-// The sea surface of a scene at any time: every train, traced or analytic, summed (paper eq. 8).
+// The sea surface of a scene at any time: every train, traced or analytic, and the reflected waves of
+// traced trains, summed (paper eq. 8).
 //
 // Once per scene each traced train's rays (wave_rays.hpp) are resampled onto a regular grid over the
 // domain holding the static fields of the train: phase phi = integral of k ds, amplitude A and the
@@ -62,6 +63,7 @@ class SeaSurface {
   /// Train `train` at (x, y) at the time set last.
   TrainProbe probe(std::size_t train, float x, float y) const noexcept;
 
+  /// The scene's trains in order, then one field per reflected wave (WaveField::reflections).
   const std::vector<TrainField>& trains() const noexcept { return trains_; }
   /// Bound of |h| (the sum of the largest amplitudes): for the marcher's slab.
   float height_bound() const noexcept { return height_bound_; }

@@ -37,6 +37,24 @@
 //   K' is computed exactly at knots along each ray (a quarter wavelength apart, down to L/64 near
 //   the pierhead) and interpolated linearly in path length in between: within 5e-3 of the exact
 //   coefficient on the Fig. 4 scene (tests/sim/test_wave_tracing.cpp), for a fifth of the cost.
+// - Reflection (physics.md 2.6 ends rays on walls; the reflected wave is added here): the rays of a
+//   train that end on a wall with alpha > 0 seed a second trace, the train's reflected wave, as its
+//   own WaveRays. Each seed starts at the hit point with the direction mirrored about the wall
+//   surface's normal there (angle of reflection = angle of incidence), amplitude alpha A_hit and the
+//   incident phase (a rigid wall is an antinode: with alpha = 1 the envelope is 2 A at the wall).
+//   Seeds are ordered as the mirror image orders them (reversed) and a seed whose neighbour did not
+//   hit the same wall is separated from it by a cut, so tubes, insertion, caustics and breaking work
+//   exactly as for the incident front (seeds reach the phase grid at staggered phases like an oblique
+//   front). One order only: reflected rays end on walls (they are not reflected again) and do not
+//   diffract. Near a pierhead the exact solution rounds the reflected wave's edge (the alpha G(s2)
+//   term); here the reflected wave ends at the last reflected ray, and its diffraction into the lee
+//   is carried by the fan's K' (which includes alpha G(s2)).
+// - TrainMesh (issue 3 asked for a rays x steps tessellation): the rays are instead resampled once
+//   per scene onto a regular grid per train (sea_surface.hpp TrainField: phase, amplitude, wave
+//   vector), which the per-frame surface samples. The grid has no holes or folds where rays cross or
+//   end, costs the same for inserted and diffracted rays, and sums trains (and reflected waves) by
+//   adding grids; the ray structure (next_on_step, tube_next) stays available for a mesh if one is
+//   ever needed.
 // - Memory: every buffer is reserved once from an estimate and bounded by the caps in DwtSettings
 //   (dwt_bound); past a cap, insertion or tracing stops and DwtStats::truncated says so. This is
 //   scene-build work: nothing here runs per frame.
@@ -158,14 +176,24 @@ struct DwtStats {
   std::uint64_t crossings = 0;        ///< neighbour pairs that crossed
   std::uint64_t broken_rays = 0;
   std::uint64_t wall_hits = 0, left_domain = 0, reached_shore = 0;
+  std::uint64_t reflected_rays = 0;   ///< rays of reflected waves (included in `rays`)
   std::uint64_t insertions_refused = 0;  ///< wanted but refused at the max_rays cap
   bool truncated = false;             ///< a cap (max_rays, max_samples, path length) was reached
   DwtStats& operator+=(const DwtStats& o) noexcept;
 };
 
+/// The wave a train's rays make after reflection on walls (one order of reflection).
+struct ReflectedWave {
+  std::size_t train = 0;  ///< the incident train (Scene::trains index)
+  WaveRays rays;          ///< seeded on the walls; phase and omega continue the incident train's
+};
+
 struct WaveField {
   std::vector<WaveRays> trains;  ///< one per Scene::trains entry, same order
-  DwtStats stats;                ///< totals over the trains
+  /// Reflected waves of traced trains that hit a wall with alpha > 0 (DwtSettings::reflection), in
+  /// train order.
+  std::vector<ReflectedWave> reflections;
+  DwtStats stats;                ///< totals over the trains and their reflections
 };
 
 /// Effect plan: does train `i` need rays? No when its amplitude is 0, or when there is no wall and the
@@ -174,6 +202,9 @@ struct WaveField {
 bool train_needs_rays(const Scene& scene, std::size_t train) noexcept;
 /// Effect plan: is there any diffraction work (a wall end in water inside the domain, diffraction on)?
 bool scene_has_pierheads(const Scene& scene) noexcept;
+
+/// Effect plan: can any traced ray be reflected (a wall with alpha > 0, reflection on)?
+bool scene_has_reflecting_walls(const Scene& scene) noexcept;
 
 /// Worst case of one train's trace under the settings' caps: the tracer never produces more.
 struct DwtBound {
@@ -184,8 +215,13 @@ DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& set
 
 /// Traces train `train` of a valid scene (Error if the scene or settings are invalid).
 Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtSettings& settings, DwtStats* stats = nullptr);
-/// Traces every train with scene.dwt (or the given settings). `threads` > 1 traces trains in parallel;
-/// the result is bit-identical for any thread count.
+/// The reflected wave of train `train` from its traced rays `incident` (trace_train's result with
+/// the same settings): no rays when nothing hit a reflecting wall, or reflection is off. Stats count
+/// its rays as reflected_rays.
+Expected<WaveRays> trace_reflection(const Scene& scene, std::size_t train, const WaveRays& incident,
+                                    const DwtSettings& settings, DwtStats* stats = nullptr);
+/// Traces every train with scene.dwt (or the given settings), then its reflection. `threads` > 1
+/// traces trains in parallel; the result is bit-identical for any thread count.
 Expected<WaveField> trace_wave_field(const Scene& scene, unsigned threads = 1);
 Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& settings, unsigned threads = 1);
 
