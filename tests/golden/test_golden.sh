@@ -34,8 +34,9 @@ compare() {
 }
 
 # The ISAs compiled in, from "houle 0.1.0 (ISA avx2; compiled: scalar sse4.2 avx2 avx512)".
-isas=$("${houle[@]}" --version | sed -nE 's/.*compiled: ([^)]*)\).*/\1/p')
-[ -n "$isas" ] || { echo "FAIL: cannot read the compiled ISAs from houle --version"; exit 1; }
+version=$("${houle[@]}" --version 2>&1)
+isas=$(sed -nE 's/.*compiled: ([^)]*)\).*/\1/p' <<<"$version")
+[ -n "$isas" ] || { printf 'FAIL: no compiled ISAs in houle --version, which said:\n%s\n' "$version"; exit 1; }
 ran=()
 for isa in $isas; do
   if ! HOULE_ISA=$isa "${houle[@]}" --version >/dev/null 2>&1; then
