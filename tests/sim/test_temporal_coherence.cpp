@@ -136,10 +136,10 @@ TEST(TemporalCoherence, NoIsolatedPixelFlipsInTheFarField) {
   for (double t0 : {1.0, 3.7, 9.2}) {
     const std::vector<float> f0 = render(a, t0), f1 = render(a, t0 + dt), f2 = render(a, t0 + 2.0 * dt);
     const Difference d = difference(f0, f1, far);
-    // A flip: the middle frame departs from both neighbours in the same direction by more than
-    // `threshold` (10 times the frame-to-frame MAD, or 5 % of the far field's mean brightness when
-    // that is larger).
-    const double threshold = std::max(10.0 * d.mad, 0.05 * d.mean);
+    // A flip: the middle frame departs from both neighbours in the same direction by more than 5 % of
+    // the far field's mean brightness (6 times the frame-to-frame MAD measured here, and fixed, so a
+    // picture that shimmers everywhere cannot raise it).
+    const double threshold = 0.05 * d.mean;
     const auto flips = [&](std::size_t i) {
       const double up = double(f1[i]) - f0[i], down = double(f1[i]) - f2[i];
       return (up > threshold && down > threshold) || (up < -threshold && down < -threshold);
