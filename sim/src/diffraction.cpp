@@ -6,6 +6,7 @@
 #include <string>
 
 #include "fresnel_integrals.hpp"
+#include "sommerfeld_tabulated.hpp"
 
 namespace houle {
 namespace {
@@ -23,9 +24,10 @@ constexpr double angle_slack = 1e-12;
 //   v >= 0 (lit):                 e^{-ikr cos psi} - ((1-i)/2) aux(v) e^{ikr}   plane wave minus it
 // So the shadow value comes from the small tail itself, never from 1 - (...), and no large phase
 // is formed only to be cancelled. Both branches give e^{ikr}/2 at v = 0.
+template <cplx (*aux)(double) noexcept = detail::fresnel_aux>
 cplx sommerfeld_term(double sqrt_4kr_over_pi, double k_r, double psi, cplx radial) noexcept {
   const double v = sqrt_4kr_over_pi * std::cos(0.5 * psi);
-  const cplx diffracted = cplx{0.5, -0.5} * detail::fresnel_aux(v) * radial;
+  const cplx diffracted = cplx{0.5, -0.5} * aux(v) * radial;
   if (v < 0.0) return diffracted;
   return std::polar(1.0, -k_r * std::cos(psi)) - diffracted;
 }
@@ -169,6 +171,14 @@ std::complex<double> sommerfeld_field(double k_r, double theta, double theta0, d
   const double s = std::sqrt(4.0 / pi * k_r);
   const cplx radial = std::polar(1.0, k_r);
   return sommerfeld_term(s, k_r, theta - theta0, radial) + alpha * sommerfeld_term(s, k_r, theta + theta0, radial);
+}
+
+double detail::sommerfeld_modulus_tabulated(double k_r, double theta, double theta0, double alpha) noexcept {
+  const double s = std::sqrt(4.0 / pi * k_r);
+  const cplx radial = std::polar(1.0, k_r);
+  const cplx f = sommerfeld_term<detail::fresnel_aux_tabulated>(s, k_r, theta - theta0, radial) +
+                 alpha * sommerfeld_term<detail::fresnel_aux_tabulated>(s, k_r, theta + theta0, radial);
+  return std::sqrt(f.real() * f.real() + f.imag() * f.imag());  // |F| <= 2: no need for hypot's range care
 }
 
 std::complex<float> sommerfeld_field_fg(double k_r, double theta, double theta0, float alpha) noexcept {

@@ -101,14 +101,16 @@ inline RayState lerp(const RayState& a, const RayState& b, double u) noexcept {
 /// Advances `st` by dphi > 0 (its wave at the start is `w`, updated to the end). After each sub-step,
 /// `stop(from, to, depth_at_to)` returns where along that chord (0..1) an event happens, or > 1 for
 /// none; on an event the state is interpolated there, `w` re-evaluated, and advance returns true.
+/// `cos_t`, `sin_t` are cos and sin of st.theta (the caller keeps them: on a uniform floor theta
+/// never changes, and this saves a sincos per step).
 template <class Stop>
-bool advance(const Medium& m, RayState& st, LocalWave& w, double dphi, Stop&& stop) {
+bool advance(const Medium& m, RayState& st, LocalWave& w, double dphi, double cos_t, double sin_t, Stop&& stop) {
   if (m.uniform) {
     // Straight line at constant k: exact.
     RayState next = st;
     const double ds = dphi / w.k;
-    next.x += std::cos(st.theta) * ds;
-    next.y += std::sin(st.theta) * ds;
+    next.x += cos_t * ds;
+    next.y += sin_t * ds;
     next.phi += dphi;
     next.s += ds;
     next.tau += ds / w.cg;

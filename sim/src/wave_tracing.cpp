@@ -14,6 +14,7 @@
 #include "houle/sim/wave_rays.hpp"
 #include "ray_step.hpp"
 #include "ray_walls.hpp"
+#include "sommerfeld_tabulated.hpp"
 
 namespace houle {
 namespace detail {
@@ -136,10 +137,11 @@ double dist(double x, double y) noexcept { return std::sqrt(x * x + y * y); }  /
 
 // ---- Diffraction coefficients ---------------------------------------------------------------------
 
-// K' of `model` at r/L, theta in the breakwater frame. The exact model goes straight to the field
-// (diffraction() would also validate and build the phase, twice the cost for the same modulus).
+// K' of `model` at r/L, theta in the breakwater frame. The exact model goes straight to the modulus
+// with the tabulated Fresnel function (within 1e-7 of sommerfeld_field's, at a fraction of the cost;
+// diffraction() would also validate and build the phase).
 double coefficient(DiffractionModel model, double r_over_l, double theta, double theta0, double alpha) {
-  if (model == DiffractionModel::exact) return std::abs(sommerfeld_field(two_pi * r_over_l, theta, theta0, alpha));
+  if (model == DiffractionModel::exact) return sommerfeld_modulus_tabulated(two_pi * r_over_l, theta, theta0, alpha);
   const auto d = diffraction(model, r_over_l, theta, theta0, alpha);
   return d.ok() ? d->K : 1.0;
 }
@@ -229,6 +231,7 @@ class TrainTracer {
     front_ = make_front(scene, train, set, medium_);
     if (set.diffraction) sites_ = pierhead_sites(scene, floor_, h_min_);
     site_used_.assign(sites_.size(), false);
+    sites_left_ = sites_.size();
   }
   // The train's reflected wave, seeded where `incident`'s rays ended on reflecting walls.
   TrainTracer(const Scene& scene, std::size_t train, const DwtSettings& set, const WaveRays& incident)
@@ -542,7 +545,7 @@ class TrainTracer {
     Stop why = Stop::none;
     std::uint32_t wall = 0;
     auto stop = [&](const RayState& a, const RayState& b, double depth_b) { return chord_event(a, b, depth_b, why, wall); };
-    const bool ended = advance(medium_, r.st, r.w, dphi, stop);
+    const bool ended = advance(medium_, r.st, r.w, dphi, r.cos_t, r.sin_t, stop);
     if (!medium_.uniform) r.sync_direction();  // straight rays keep theta
     if (!ended) return true;
     r.alive = false;
@@ -612,8 +615,8 @@ class TrainTracer {
       write_sample(id, q.st, q.w, (q.flags & ray_flag::crossed) ? sample_flag::crossed : std::uint8_t(0));
     }
     if (truncated_) return;
-    // B: fans at pierheads the front has just passed.
-    if (!sites_.empty()) spawn_fans(j);
+    // B: fans at pierheads the front has just passed (each site spawns once).
+    if (sites_left_ > 0) spawn_fans(j);
     // C: tubes, caustics and amplitudes on this wavefront.
     measure_tubes();
     update_amplitudes();
@@ -810,6 +813,7 @@ class TrainTracer {
     const std::int32_t fan_index = std::int32_t(fans_.size());
     fans_.push_back(f);
     site_used_[s] = true;
+    --sites_left_;
     ++stats_.fans;
 
     const int n = std::max(1, int(std::ceil(span / fan_spacing)));
@@ -1144,6 +1148,7 @@ class TrainTracer {
   std::vector<Capsule> capsules_;
   std::vector<PierheadSite> sites_;
   std::vector<bool> site_used_;
+  std::size_t sites_left_ = 0;  // sites that have not spawned their fan yet
   std::vector<Fan> fans_;
   std::vector<Ray> rays_;
   std::vector<std::int32_t> order_, merged_;
