@@ -15,7 +15,7 @@ int cmd_probe(std::span<char* const> argv) {
 
 Queries the waves of SCENE (the built-in coast without one) at points (m) and times T (s, default 0):
 the surface height and gradient, and per train the local amplitude, the amplitude relative to the
-deep-water one (shoaling x refraction x diffraction), the wavelength, the direction of travel and
+deep-water one (shoaling x refraction x diffraction), the diffraction coefficient K', the wavelength, the direction of travel and
 the phase.)");
     return 0;
   }
@@ -64,11 +64,13 @@ the phase.)");
     for (std::size_t k = 0; k < scene->trains.size(); ++k) {
       const TrainProbe p = sea->probe(k, x, y);
       if (json) {
-        std::printf("%s{\"amplitude\": %.6g, \"relative_amplitude\": %.6g, \"wavelength\": %.6g, \"direction_deg\": %.6g, \"phase\": %.6g}",
-                    k ? ", " : "", p.amplitude, p.relative_amplitude, p.wavelength, p.direction_deg, p.phase);
+        std::printf("%s{\"amplitude\": %.6g, \"relative_amplitude\": %.6g, \"diffraction\": %.6g, \"wavelength\": %.6g, "
+                    "\"direction_deg\": %.6g, \"phase\": %.6g}",
+                    k ? ", " : "", p.amplitude, p.relative_amplitude, p.diffraction, p.wavelength, p.direction_deg, p.phase);
       } else {
-        std::printf("  train %zu: amplitude %.4f m (x%.3f of deep water), wavelength %.3f m, towards %.1f deg, phase %.3f rad\n",
-                    k, p.amplitude, p.relative_amplitude, p.wavelength, p.direction_deg, p.phase);
+        std::printf("  train %zu: amplitude %.4f m (x%.3f of deep water, diffraction K' %.3f), wavelength %.3f m, towards %.1f "
+                    "deg, phase %.3f rad\n",
+                    k, p.amplitude, p.relative_amplitude, p.diffraction, p.wavelength, p.direction_deg, p.phase);
       }
     }
     if (json) std::printf("]}");

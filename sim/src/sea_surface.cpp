@@ -38,6 +38,8 @@ void set_far_field(TrainField& f, const Scene& scene, const WaveRays& rays, doub
 void splat(TrainField& f, const WaveRays& rays, double radius) {
   const std::size_t nodes = f.nx * f.ny;
   std::vector<double> w(nodes, 0.0), phi(nodes, 0.0), amp(nodes, 0.0), kx(nodes, 0.0), ky(nodes, 0.0);
+  const bool diffracts = !rays.diffraction.empty();
+  std::vector<double> kd(diffracts ? nodes : 0, 0.0);
   const int reach = int(std::ceil(radius / f.cell));
   for (std::size_t s = 0; s < rays.sample_count(); ++s) {
     const double gx = (rays.x[s] - f.origin_x) / f.cell, gy = (rays.y[s] - f.origin_y) / f.cell;
@@ -56,6 +58,7 @@ void splat(TrainField& f, const WaveRays& rays, double radius) {
         amp[n] += ww * rays.amplitude[s];
         kx[n] += ww * kxs;
         ky[n] += ww * kys;
+        if (diffracts) kd[n] += ww * double(rays.diffraction[s]);
       }
     }
   }
@@ -63,6 +66,7 @@ void splat(TrainField& f, const WaveRays& rays, double radius) {
   f.amplitude.resize(nodes);
   f.kx.resize(nodes);
   f.ky.resize(nodes);
+  f.diffraction.assign(diffracts ? nodes : 0, 0.0f);
   for (std::size_t n = 0; n < nodes; ++n) {
     const double x = f.origin_x + double(n % f.nx) * f.cell, y = f.origin_y + double(n / f.nx) * f.cell;
     if (w[n] > 1e-9) {
@@ -70,6 +74,7 @@ void splat(TrainField& f, const WaveRays& rays, double radius) {
       f.amplitude[n] = float(amp[n] / w[n]);
       f.kx[n] = float(kx[n] / w[n]);
       f.ky[n] = float(ky[n] / w[n]);
+      if (diffracts) f.diffraction[n] = float(kd[n] / w[n]);
     } else {
       // No wave here: keep the far field's phase and direction so interpolation towards it is smooth.
       f.phi[n] = float(double(f.far_k) * (f.dir_x * x + f.dir_y * y) - f.far_offset);
@@ -172,6 +177,16 @@ void SeaSurface::eval(const float* x, const float* y, std::size_t n, float* heig
 TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept {
   const TrainField& f = trains_[train];
   const Local l = local(f, x, y);
+  float diffraction = 1.0f;
+  const float gx = (x - f.origin_x) / f.cell, gy = (y - f.origin_y) / f.cell;
+  if (!f.diffraction.empty() && gx >= 0.0f && gy >= 0.0f && gx <= float(f.nx - 1) && gy <= float(f.ny - 1)) {
+    // Bilinear, as local() interpolates the other fields.
+    const std::size_t i = std::min(std::size_t(gx), f.nx - 2), j = std::min(std::size_t(gy), f.ny - 2);
+    const float u = gx - float(i), v = gy - float(j);
+    const std::vector<float>& q = f.diffraction;
+    const std::size_t n00 = j * f.nx + i;
+    diffraction = (q[n00] * (1.0f - u) + q[n00 + 1] * u) * (1.0f - v) + (q[n00 + f.nx] * (1.0f - u) + q[n00 + f.nx + 1] * u) * v;
+  }
   const float k = std::sqrt(l.kx * l.kx + l.ky * l.ky);
   TrainProbe p;
   p.amplitude = std::max(l.amplitude, 0.0f);
@@ -179,6 +194,7 @@ TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept
   p.wavelength = k > 0.0f ? float(two_pi) / k : 0.0f;
   p.direction_deg = float(std::atan2(l.ky, l.kx) * 180.0 / std::numbers::pi);
   p.phase = float(std::remainder(double(l.phi) - time_phase_[train], two_pi));
+  p.diffraction = diffraction;
   return p;
 }
 

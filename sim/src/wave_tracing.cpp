@@ -1079,6 +1079,12 @@ class TrainTracer {
       out.pierhead[i] = r.family;
       apply_diffraction(out, a_break, k_exact, r.family, out.sample_begin[i], out.sample_begin[i + 1]);
     }
+    if (!fans_.empty()) {
+      out.diffraction.assign(out.sample_count(), 1.0f);
+      for (std::size_t s = 0; s < out.sample_count(); ++s) {
+        if (out.sample_flags[s] & sample_flag::diffraction) out.diffraction[s] = float(k_exact[s]);
+      }
+    }
     for (const Fan& f : fans_) {
       out.pierheads.push_back(WaveRays::Pierhead{f.site.x, f.site.y, f.ox, f.oy, f.site.wall, f.phi_m, f.a_m, f.wave_m.k});
     }

@@ -36,12 +36,15 @@ struct TrainField {
   float origin_x = 0.0f, origin_y = 0.0f, cell = 1.0f;
   std::size_t nx = 0, ny = 0;
   std::vector<float> phi, amplitude, kx, ky;
+  /// K' on the grid (0 where no wave arrived), or empty: 1 everywhere (no diffraction in this train).
+  std::vector<float> diffraction;
 };
 
 /// One train at a point: what `houle probe` reports.
 struct TrainProbe {
   float amplitude = 0.0f;        ///< m, local A: shoaling, refraction and diffraction applied
   float relative_amplitude = 0.0f;  ///< A / A0 (A0 the deep-water amplitude): Ks Kr K'
+  float diffraction = 1.0f;      ///< K', the diffraction coefficient in A (1 without diffraction)
   float wavelength = 0.0f;       ///< m, local 2 pi / k
   float direction_deg = 0.0f;    ///< direction of travel, degrees counter-clockwise from +x
   float phase = 0.0f;            ///< rad, theta = phi - (omega t - phase) reduced to [-pi, pi]

@@ -131,6 +131,9 @@ struct WaveRays {
   std::vector<double> phase;       ///< rad, phi = integral of k ds (the surface phase is phi - omega t + train phase)
   std::vector<double> time;        ///< s, travel time integral of ds / Cg
   std::vector<std::uint8_t> sample_flags;  ///< sample_flag bits
+  /// The diffraction coefficient K' in `amplitude` (1 where none applies; per sample), or empty when
+  /// no fan was spawned for this train (K' = 1 everywhere).
+  std::vector<float> diffraction;
 
   /// Pierheads that spawned a fan for this train.
   struct Pierhead {
