@@ -161,4 +161,30 @@ TEST(WallReflection, NoReflectionWorkWithoutReflectingWalls) {
   EXPECT_GT(f.stats.reflected_rays, 0u);
 }
 
+TEST(WallReflection, ReflectionInACornerIsFiniteAndBounded) {
+  // A rigid V-shaped harbour corner facing the waves (a concave polyline): reflected rays leave the
+  // left arm towards 32 degrees from +x (the right one towards 148), cross each other, meet the other
+  // arm (where they end: one order of reflection) or leave the domain. Finite, bounded by the
+  // caustic cap, every ray ended.
+  Scene s = walled_sea(0.0, 0.0, 1.0, 90.0);
+  s.walls[0].points = {{45.0, -5.0}, {100.0, 95.0}, {155.0, -5.0}};  // arms 61 degrees from the x axis
+  const houle::WaveField f = traced(s);
+  ASSERT_EQ(f.reflections.size(), 1u);
+  const WaveRays& re = f.reflections[0].rays;
+  const double cap = s.dwt.max_refraction_coefficient * 0.1 * houle::shoaling_coefficient(houle::linear_wave(re.omega, 10.0).kh);
+  std::size_t on_wall = 0;
+  for (std::size_t r = 0; r < re.ray_count(); ++r) {
+    ASSERT_TRUE(re.flags[r] & houle::ray_flag::dead);
+    on_wall += (re.flags[r] & houle::ray_flag::hit_wall) ? 1 : 0;
+    for (std::size_t i = re.sample_begin[r]; i < re.sample_begin[r + 1]; ++i) {
+      ASSERT_TRUE(std::isfinite(re.x[i]) && std::isfinite(re.y[i]) && std::isfinite(re.amplitude[i]) && std::isfinite(re.phase[i]));
+      ASSERT_LE(re.amplitude[i], cap * (1.0 + 1e-12));
+    }
+  }
+  EXPECT_GT(on_wall, 0u);  // some meet the other arm
+  auto built = houle::SeaSurface::build(s, f);
+  ASSERT_TRUE(built.ok());
+  EXPECT_LE(built->height_bound(), 2.0 * cap + 1e-6);
+}
+
 }  // namespace
