@@ -15,6 +15,21 @@ target_compile_options(houle_warnings INTERFACE
   -Wcast-align -Woverloaded-virtual -Wnull-dereference -Wimplicit-fallthrough
   $<$<BOOL:${HOULE_WERROR}>:-Werror>)
 
+if(HOULE_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "HOULE_FUZZ needs clang (libFuzzer): configure with the fuzz preset")
+  endif()
+  set(HOULE_SANITIZE ON)
+  # Coverage instrumentation everywhere; only the fuzz targets link libFuzzer's main.
+  target_compile_options(houle_options INTERFACE -fsanitize=fuzzer-no-link)
+endif()
+if(HOULE_SANITIZE AND HOULE_TSAN)
+  message(FATAL_ERROR "HOULE_SANITIZE and HOULE_TSAN exclude each other")
+endif()
+if(HOULE_TSAN)
+  target_compile_options(houle_options INTERFACE -fsanitize=thread -fno-omit-frame-pointer)
+  target_link_options(houle_options INTERFACE -fsanitize=thread)
+endif()
 if(HOULE_SANITIZE)
   target_compile_options(houle_options INTERFACE -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   target_link_options(houle_options INTERFACE -fsanitize=address,undefined)

@@ -97,7 +97,9 @@ std::optional<std::pair<int, int>> parse_size(std::string_view text) {
   const auto x = text.find('x');
   if (x == std::string_view::npos) return std::nullopt;
   const auto w = parse_int(text.substr(0, x)), h = parse_int(text.substr(x + 1));
-  if (!w || !h || *w <= 0 || *h <= 0 || *w > 16384 || *h > 16384) return std::nullopt;
+  if (!w || !h || *w <= 0 || *h <= 0 || *w > max_image_side || *h > max_image_side || *w * *h > max_image_pixels) {
+    return std::nullopt;
+  }
   return std::pair<int, int>{int(*w), int(*h)};
 }
 

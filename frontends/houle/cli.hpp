@@ -52,7 +52,11 @@ void take_threads(Args& args, unsigned& threads);
 
 std::optional<double> parse_double(std::string_view text);
 std::optional<long long> parse_int(std::string_view text);
-/// "640x360" -> {640, 360}.
+/// Image sizes houle accepts: each side at most max_image_side, at most max_image_pixels in all.
+inline constexpr int max_image_side = 16384;
+inline constexpr long long max_image_pixels = 1ll << 26;
+inline constexpr const char* size_expected = "WxH with each in 1..16384 and at most 64 Mpixels (8192x8192)";
+/// "640x360" -> {640, 360}; nothing outside the limits above.
 std::optional<std::pair<int, int>> parse_size(std::string_view text);
 /// "1.5,-2" or "1.5,-2,3" -> the numbers.
 std::optional<std::vector<double>> parse_list(std::string_view text);

@@ -49,7 +49,7 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
   }
   if (auto v = args.value("--size")) {
     const auto s = parse_size(*v);
-    if (!s) args.fail("--size expects WxH with each in 1..16384, got '" + *v + "'");
+    if (!s) args.fail(std::string("--size expects ") + size_expected + ", got '" + *v + "'");
     else width = s->first, height = s->second;
   }
   take_quality(args, quality);
@@ -65,7 +65,8 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
   Expected<Animation> anim = Animation::create(*scene, quality_preset(quality), std::uint32_t(width),
                                                std::uint32_t(height), threads);
   if (!anim) {
-    std::fprintf(stderr, "houle bench: %s: %s\n", anim.error().field.c_str(), anim.error().message.c_str());
+    std::fprintf(stderr, "houle bench: %s: %s: %s\n", scene_name(positionals).c_str(), anim.error().field.c_str(),
+                 anim.error().message.c_str());
     return 2;
   }
   Framebuffer fb(width, height);
@@ -90,7 +91,7 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
   if (json) {
     std::printf("{\"scene\": \"%s\", \"size\": [%d, %d], \"quality\": \"%s\", \"threads\": %u, \"isa\": \"%s\", \"frames\": %ld, "
                 "\"build_ms\": %.3f, \"stages_ms\": {",
-                positionals.empty() ? "built-in coast" : positionals[0].c_str(), width, height,
+                scene_name(positionals).c_str(), width, height,
                 quality_name(quality).data(), threads, isa, frames, anim->build_ms());
     for (std::size_t i = 0; i < std::size(rows); ++i) {
       const Distribution& d = rows[i].second;
@@ -100,7 +101,7 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
     std::printf("}}\n");
   } else {
     std::printf("%s, %dx%d, %s, %u threads, ISA %s: %ld frames after %ld warm-up; scene build %.1f ms\n",
-                positionals.empty() ? "built-in coast" : positionals[0].c_str(), width, height,
+                scene_name(positionals).c_str(), width, height,
                 quality_name(quality).data(), threads, isa, frames, warmup, anim->build_ms());
     std::printf("%-10s %9s %9s %9s %9s   (ms)\n", "stage", "median", "p90", "p99", "max");
     for (const auto& [name, d] : rows) std::printf("%-10s %9.2f %9.2f %9.2f %9.2f\n", name, d.median, d.p90, d.p99, d.max);

@@ -3,6 +3,7 @@
 
 #include "cli.hpp"
 #include "commands.hpp"
+#include "houle/sim/animation.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "scene_source.hpp"
 
@@ -38,12 +39,17 @@ the phase.)");
   }
   const std::optional<Scene> scene = scene_from_args(positionals, "probe");
   if (!scene) return 2;
+  const float sea_cell = Quality{}.sea_cell;  // the realtime quality's resampling grid
+  if (const std::optional<Error> e = check_build_memory(*scene, sea_cell, 0)) {
+    std::fprintf(stderr, "houle probe: %s: %s: %s\n", scene_name(positionals).c_str(), e->field.c_str(), e->message.c_str());
+    return 2;
+  }
   Expected<WaveField> field = trace_wave_field(*scene, 2);
   if (!field) {
     std::fprintf(stderr, "houle probe: %s: %s\n", field.error().field.c_str(), field.error().message.c_str());
     return 2;
   }
-  Expected<SeaSurface> sea = SeaSurface::build(*scene, field.value());
+  Expected<SeaSurface> sea = SeaSurface::build(*scene, field.value(), sea_cell);
   if (!sea) {
     std::fprintf(stderr, "houle probe: %s\n", sea.error().message.c_str());
     return 1;

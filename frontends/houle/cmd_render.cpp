@@ -20,9 +20,10 @@ constexpr const char* help = R"(usage: houle render [SCENE] [options]
 Renders an animation of SCENE (the built-in coast without one) to an image sequence or raw frames.
 
 options:
-  --frames A:B | N        frames A to B inclusive, or the first N (default 0:47); frame n is at n / fps s
+  --frames A:B | N        frames A to B inclusive, or the first N (default 0:47); frame n is at n / fps s;
+                          at most 10000000 frames, numbered below 2^31
   --fps F                 frames per second of scene time (default 30)
-  --size WxH              image size (default 640x360)
+  --size WxH              image size (default 640x360; each side at most 16384, at most 64 Mpixels)
   --quality Q             draft, realtime (default) or film
   --threads N             render threads (default 2)
   --out PATTERN           image sequence through OpenImageIO, one %d-style frame number in the name
@@ -54,17 +55,20 @@ struct Options {
   bool realtime = false, quiet = false, verbose = false;
 };
 
+// Frame numbers go into %d file names (int); a run is at most max_frames long.
+constexpr long long max_frames = 10'000'000, max_frame_number = 2147483647;
+
 bool parse_frames(const std::string& v, Options& o) {
   const auto colon = v.find(':');
   if (colon == std::string::npos) {
     const auto n = parse_int(v);
-    if (!n || *n < 1) return false;
+    if (!n || *n < 1 || *n > max_frames) return false;
     o.first = 0;
     o.last = long(*n) - 1;
     return true;
   }
   const auto a = parse_int(v.substr(0, colon)), b = parse_int(v.substr(colon + 1));
-  if (!a || !b || *a < 0 || *b < *a) return false;
+  if (!a || !b || *a < 0 || *b < *a || *b > max_frame_number || *b - *a >= max_frames) return false;
   o.first = long(*a);
   o.last = long(*b);
   return true;
@@ -79,7 +83,7 @@ int cmd_render(std::span<char* const> argv) {
     return 0;
   }
   Options o;
-  if (auto v = args.value("--frames"); v && !parse_frames(*v, o)) args.fail("--frames expects A:B (0 <= A <= B) or a count N >= 1, got '" + *v + "'");
+  if (auto v = args.value("--frames"); v && !parse_frames(*v, o)) args.fail("--frames expects A:B (0 <= A <= B < 2^31, at most 10000000 frames) or a count N in 1..10000000, got '" + *v + "'");
   if (auto v = args.value("--fps")) {
     const auto f = parse_double(*v);
     if (!f || *f <= 0.0 || *f > 1000.0) args.fail("--fps expects a number in (0, 1000], got '" + *v + "'");
@@ -87,7 +91,7 @@ int cmd_render(std::span<char* const> argv) {
   }
   if (auto v = args.value("--size")) {
     const auto s = parse_size(*v);
-    if (!s) args.fail("--size expects WxH with each in 1..16384, got '" + *v + "'");
+    if (!s) args.fail(std::string("--size expects ") + size_expected + ", got '" + *v + "'");
     else o.width = s->first, o.height = s->second;
   }
   take_quality(args, o.quality);
@@ -113,25 +117,22 @@ int cmd_render(std::span<char* const> argv) {
     std::fprintf(stderr, "houle %s\n", args.error().message.c_str());
     return 2;
   }
-  // Absurd requests are refused before anything is allocated.
-  if (std::uint64_t(o.width) * std::uint64_t(o.height) > (1ull << 26)) {
-    std::fprintf(stderr, "houle render: %dx%d is over the limit of 64 Mpixels per frame\n", o.width, o.height);
-    return 2;
-  }
   std::optional<Scene> scene = scene_from_args(positionals, "render");
   if (!scene) return 2;
 
+  Expected<Animation> anim = Animation::create(*scene, quality_preset(o.quality), std::uint32_t(o.width),
+                                               std::uint32_t(o.height), o.threads);
+  if (!anim) {
+    std::fprintf(stderr, "houle render: %s: %s: %s\n", scene_name(positionals).c_str(), anim.error().field.c_str(),
+                 anim.error().message.c_str());
+    return 2;
+  }
+  // Opened only once the scene is known to build: a refused scene leaves an existing output untouched.
   if (!o.raw && o.default_out) std::filesystem::create_directories("frames");
   Expected<std::unique_ptr<FrameWriter>> writer =
       o.raw ? make_raw_writer(*o.raw, o.format, o.width, o.height) : make_image_writer(o.out, o.width, o.height);
   if (!writer) {
     std::fprintf(stderr, "houle render: %s: %s\n", writer.error().field.c_str(), writer.error().message.c_str());
-    return 2;
-  }
-  Expected<Animation> anim = Animation::create(*scene, quality_preset(o.quality), std::uint32_t(o.width),
-                                               std::uint32_t(o.height), o.threads);
-  if (!anim) {
-    std::fprintf(stderr, "houle render: %s: %s\n", anim.error().field.c_str(), anim.error().message.c_str());
     return 2;
   }
   const bool progress = !o.quiet && ::isatty(2);

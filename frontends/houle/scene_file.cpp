@@ -12,6 +12,7 @@
 #include <toml++/toml.h>
 
 #include "height_map_image.hpp"
+#include "toml_ascii.hpp"
 
 namespace houle::cli {
 namespace {
@@ -373,7 +374,9 @@ void read_scene(const toml::table& root, Scene& s, Context& ctx) {
 }  // namespace
 
 Expected<Scene> parse_scene(std::string_view text, const std::string& name, const std::string& dir) {
-  toml::parse_result parsed = toml::parse(text, name);
+  const Expected<std::string> ascii = toml_ascii(text, name);
+  if (!ascii) return ascii.error();
+  toml::parse_result parsed = toml::parse(ascii.value(), name);
   if (!parsed) {
     const toml::parse_error& e = parsed.error();
     return Error{name + ":" + std::to_string(e.source().begin.line) + ":" + std::to_string(e.source().begin.column),

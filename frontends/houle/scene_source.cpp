@@ -20,4 +20,8 @@ std::optional<Scene> scene_from_args(const std::vector<std::string>& positionals
   return std::move(scene.value());
 }
 
+std::string scene_name(const std::vector<std::string>& positionals) {
+  return positionals.empty() ? "built-in coast" : positionals[0];
+}
+
 }  // namespace houle::cli

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include "houle/sim/bathymetry.hpp"
@@ -91,6 +92,33 @@ Check check_domain(const Domain& d) {
   }
   if (!(d.x_max > d.x_min)) return bad("domain.x_max", "a value > x_min = " + num(d.x_min) + " m", d.x_max);
   if (!(d.y_max > d.y_min)) return bad("domain.y_max", "a value > y_min = " + num(d.y_min) + " m", d.y_max);
+  const std::string side = "a side of at most " + num(scene_limits::max_domain_side) + " m, got ";
+  if (d.x_max - d.x_min > scene_limits::max_domain_side) return Error{"domain.x_max", side + num(d.x_max - d.x_min) + " m"};
+  if (d.y_max - d.y_min > scene_limits::max_domain_side) return Error{"domain.y_max", side + num(d.y_max - d.y_min) + " m"};
+  // Coordinates reach the renderer as floats: keep their precision near a millimetre.
+  const double far = std::max({std::abs(d.x_min), std::abs(d.x_max), std::abs(d.y_min), std::abs(d.y_max)});
+  if (far > scene_limits::max_coordinate) {
+    return bad("domain", "bounds within " + num(scene_limits::max_coordinate) + " m of the origin", far);
+  }
+  return {};
+}
+
+// Counts that bound the scene build's memory and time (docs/scenes.md, "Limits").
+Check check_counts(const Scene& s) {
+  const std::pair<const char*, std::size_t> counts[] = {
+      {"floor.shoals", s.floor.shoals.size()}, {"floor.bars", s.floor.bars.size()},
+      {"floor.channels", s.floor.channels.size()}, {"walls", s.walls.size()},
+      {"trains", s.trains.size()}, {"boxes", s.boxes.size()}, {"spheres", s.spheres.size()}};
+  for (const auto& [field, n] : counts) {
+    const std::size_t most = std::string_view(field) == "trains" ? scene_limits::max_trains : scene_limits::max_items;
+    if (n > most) return Error{field, "at most " + std::to_string(most) + " entries, got " + std::to_string(n)};
+  }
+  for (std::size_t i = 0; i < s.walls.size(); ++i) {
+    if (s.walls[i].points.size() > scene_limits::max_wall_points) {
+      return Error{at("walls", i) + ".points", "at most " + std::to_string(scene_limits::max_wall_points) +
+                                                   " points, got " + std::to_string(s.walls[i].points.size())};
+    }
+  }
   return {};
 }
 
@@ -268,10 +296,13 @@ Check check_dwt(const DwtSettings& d) {
       d.diffraction_model != DiffractionModel::paper_corrected) {
     return Error{"dwt.diffraction_model", "exact, paper or paper_corrected"};
   }
-  if (d.max_rays < 2 || d.max_rays < d.initial_rays) {
-    return bad("dwt.max_rays", "at least 2 and at least initial_rays", d.max_rays);
+  if (d.max_rays < 2 || d.max_rays < d.initial_rays || d.max_rays > scene_limits::max_rays) {
+    return bad("dwt.max_rays", "at least 2, at least initial_rays and at most " + std::to_string(scene_limits::max_rays),
+               d.max_rays);
   }
-  if (d.max_samples < 64) return bad("dwt.max_samples", "at least 64", d.max_samples);
+  if (d.max_samples < 64 || d.max_samples > scene_limits::max_samples) {
+    return bad("dwt.max_samples", "a count in [64, " + std::to_string(scene_limits::max_samples) + "]", d.max_samples);
+  }
   return {};
 }
 
@@ -301,6 +332,7 @@ Point2 train_direction(const WaveTrain& t) noexcept {
 
 Expected<Scene> validate(Scene scene) {
   if (auto e = check_domain(scene.domain)) return *e;
+  if (auto e = check_counts(scene)) return *e;
   if (auto e = check_floor(scene.floor)) return *e;
   if (auto e = check_walls(scene.walls, scene.domain)) return *e;
   if (auto e = check_trains(scene.trains)) return *e;

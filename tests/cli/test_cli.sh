@@ -69,6 +69,50 @@ expect toml-syntax 2 'syntax.toml:1:' "$houle" validate "$f"
 expect missing-file 2 'nope.toml: cannot read the scene file' "$houle" validate "$work/nope.toml"
 head -c 1100000 /dev/zero | tr '\0' '#' >"$work/huge.toml"
 expect huge-file 2 'over the limit of 1048576' "$houle" validate "$work/huge.toml"
+# Non-ASCII text: fine in comments and strings, refused elsewhere with its place (toml_ascii.hpp).
+f=$(scene accents '# Côte sauvage, près du môle
+[floor.base]
+kind = "planar_béach"')
+expect accents-in-string 2 'accents.toml:3:8: floor.base.kind: expected one of "flat", "planar_beach", got "planar_béach"' "$houle" validate "$f"
+f=$(scene accents-ok '# Côte sauvage, près du môle
+[sun]
+elevation_deg = 20.0  # bas sur l’horizon')
+expect accents-in-comment 0 ': ok$' "$houle" validate "$f"
+f=$(scene accents-bare '[sun]
+élévation = 20.0')
+expect accents-in-key 2 'accents-bare.toml:2:1: a non-ASCII character outside a string or comment' "$houle" validate "$f"
+printf '[sun]\nelevation_deg = 20.0 \xff\n' >"$work/bad-utf8.toml"
+expect invalid-utf8 2 'bad-utf8.toml:2:22: invalid UTF-8' "$houle" validate "$work/bad-utf8.toml"
+
+# Limits (docs/scenes.md): refused up front with what was expected, never an out-of-memory crash.
+f=$(scene huge-domain '[domain]
+x_max = 1000000.0')
+expect limit-domain 2 'huge-domain.toml:2:9: domain.x_max: a side of at most 4000 m, got 1e\+06 m' "$houle" validate "$f"
+f=$(scene many-trains "$(for i in $(seq 17); do printf '[[trains]]\nperiod = 5.0\n'; done)")
+expect limit-trains 2 'many-trains.toml:1:1: trains: at most 16 entries, got 17' "$houle" validate "$f"
+f=$(scene huge-caps '[dwt]
+max_samples = 4000000000')
+expect limit-samples 2 'huge-caps.toml:2:15: dwt.max_samples: a count in \[64, 16777216\]' "$houle" validate "$f"
+# Valid, but 16 traced trains over 4 km at film quality would need tens of GiB.
+f=$(scene huge-build "[domain]
+x_max = 4000.0
+y_max = 4000.0
+[floor.base]
+kind = \"planar_beach\"
+depth = 30.0
+shoreline = [0.0, 4000.0]
+$(for i in $(seq 16); do printf '[[trains]]\nperiod = 8.0\n'; done)
+[camera]
+position = [2000.0, -20.0, 6.0]
+look_at = [2000.0, 80.0, 0.0]")
+expect limit-memory 2 'huge-build.toml: scene: needs an estimated [0-9]+ MiB .*over the limit of 4096 MiB' "$houle" render "$f" --quality film --frames 1 --raw "$work/never.rgb"
+[ -e "$work/never.rgb" ] && { fail=$((fail + 1)); echo "FAIL limit-memory: opened the output"; }
+expect limit-memory-probe 2 'huge-build.toml: scene: needs an estimated' "$houle" probe "$f" --at 10,10
+expect limit-size 2 'size expects WxH with each in 1..16384 and at most 64 Mpixels' "$houle" render --size 16384x16384 --frames 1 --raw "$work/never.rgb"
+expect limit-size-bench 2 'size expects WxH with each in 1..16384 and at most 64 Mpixels' "$houle" bench --size 10000x10000
+expect limit-frames 2 'frames expects .*at most 10000000 frames' "$houle" render --frames 0:99999999999 --raw "$work/never.rgb"
+expect limit-frame-count 2 'frames expects .*at most 10000000 frames' "$houle" render --frames 20000000 --raw "$work/never.rgb"
+expect limit-bench-frames 2 'frames expects a count in 1..10000000' "$houle" bench --frames 100000000
 f=$(scene bad-enum '[floor.base]
 kind = "sloped"')
 expect bad-enum 2 'floor.base.kind: expected one of "flat", "planar_beach", got "sloped"' "$houle" validate "$f"

@@ -5,6 +5,7 @@
 // travels towards +y). A Scene is data only: `validate` checks it and says which field is wrong and
 // what was expected; frontends fill it from files (images go into SeaFloor::height_map).
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -203,6 +204,20 @@ struct DwtSettings {
 };
 
 // ---- The scene -----------------------------------------------------------------------------------
+
+/// What `validate` accepts at most: together they bound the memory and time of a scene build
+/// (docs/scenes.md, "Limits"). Animation::create also refuses a scene whose estimated memory at the
+/// chosen quality exceeds max_animation_bytes.
+namespace scene_limits {
+inline constexpr double max_domain_side = 4000.0;     ///< m, each side of the domain
+inline constexpr double max_coordinate = 100000.0;    ///< m, |bound| of the domain from the origin
+inline constexpr std::size_t max_trains = 16;
+inline constexpr std::size_t max_items = 1024;        ///< shoals, bars, channels, walls, boxes, spheres (each)
+inline constexpr std::size_t max_wall_points = 4096;  ///< per wall
+inline constexpr std::uint32_t max_rays = 1u << 20;    ///< dwt.max_rays (per train)
+inline constexpr std::uint32_t max_samples = 1u << 24;  ///< dwt.max_samples (per train)
+inline constexpr std::uint64_t max_animation_bytes = 4ull << 30;
+}  // namespace scene_limits
 
 struct Scene {
   Domain domain{};
