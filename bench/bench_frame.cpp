@@ -15,6 +15,9 @@
 // Also the per-frame retessellation alone (SeaSurface::set_time, SurfaceFrame::begin_frame at the
 // camera's ground point, fill with SeaSurface::sample, as Animation::render does) at each preset's
 // surface grid and sea_cell: ns per grid cell filled.
+//
+// Everything runs on the dispatched ISA (the label says which); the scalar path is the same program
+// under HOULE_ISA=scalar (ctest runs realtime at 640x360 that way too).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -28,6 +31,7 @@
 #include <vector>
 
 #include "houle/kernel/framebuffer.hpp"
+#include "houle/kernel/isa.hpp"
 #include "houle/kernel/surface_frame.hpp"
 #include "houle/sim/animation.hpp"
 #include "houle/sim/scene.hpp"
@@ -120,7 +124,7 @@ void bm_frame(benchmark::State& state, houle::QualityPreset q) {
   state.counters["frame_max_ms"] = frame_ms.empty() ? 0.0 : *std::max_element(frame_ms.begin(), frame_ms.end());
   state.counters["fps"] = benchmark::Counter(n, benchmark::Counter::kIsRate);
   state.SetItemsProcessed(static_cast<std::int64_t>(n * double(w) * double(h)));  // pixels/s
-  state.SetLabel(std::string(houle::quality_name(q)));
+  state.SetLabel(std::string(houle::quality_name(q)) + " " + std::string(houle::isa_name(houle::active_isa())));
 }
 
 // ---- Retessellation alone --------------------------------------------------------------------------

@@ -1,4 +1,6 @@
-// Per-sample kernels on every supported ISA, so one run shows the SIMD speed-up side by side.
+// Per-sample kernels on every supported ISA, so one run shows the SIMD speed-up side by side:
+// Gerstner height + gradient, and capillary noise (height + gradient, and height only) at every
+// octave, i.e. the cost of a sample near the camera where the LOD keeps all of them.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -6,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "houle/kernel/capillary.hpp"
 #include "houle/kernel/gerstner.hpp"
 #include "houle/kernel/isa.hpp"
 
@@ -32,9 +35,36 @@ void bm_gerstner(benchmark::State& state, houle::Isa isa) {
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+// The default ripples (6 octaves) at level range(0) on 1003 points within 20 m of the origin.
+void bm_capillary(benchmark::State& state, houle::Isa isa, bool gradient) {
+  const auto frame = houle::make_capillary_frame(houle::CapillaryParams{}, 12.5);
+  const std::size_t n = 1003;
+  std::vector<float> x(n), y(n), level(n, float(state.range(0))), h(n), gx(n), gy(n);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> c(-20.0f, 20.0f);
+  for (std::size_t i = 0; i < n; ++i) x[i] = c(rng), y[i] = c(rng);
+  for (auto _ : state) {
+    houle::capillary_eval(isa, frame.value(), x.data(), y.data(), level.data(), n, h.data(),
+                          gradient ? gx.data() : nullptr, gradient ? gy.data() : nullptr);
+    benchmark::DoNotOptimize(h.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n));
+  state.counters["ns_per_sample"] = benchmark::Counter(double(state.iterations() * n),
+                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 const bool registered = [] {
   for (houle::Isa isa : houle::supported_isas()) {
-    benchmark::RegisterBenchmark(("gerstner_eval/" + std::string(houle::isa_name(isa))).c_str(), bm_gerstner, isa);
+    const std::string name(houle::isa_name(isa));
+    benchmark::RegisterBenchmark(("gerstner_eval/" + name).c_str(), bm_gerstner, isa);
+    benchmark::RegisterBenchmark(("capillary_eval/gradient/" + name).c_str(), bm_capillary, isa, true)
+        ->ArgName("level")
+        ->Arg(3)
+        ->Arg(6);
+    benchmark::RegisterBenchmark(("capillary_eval/height/" + name).c_str(), bm_capillary, isa, false)
+        ->ArgName("level")
+        ->Arg(6);
   }
   return true;
 }();

@@ -8,7 +8,8 @@
 //   costs over the (much less accurate, see diffraction.hpp) fits.
 // - DWT scene build: trace_wave_field for the paper's Fig. 4 scene and the built-in coast, 1 and 2
 //   threads, with the tracer's own stats as counters (the paper: 125 diffracted rays, < 5 s on a
-//   180 MHz R5000), and SeaSurface::build (the per-scene resampling) at each preset's sea_cell.
+//   180 MHz R5000), SeaSurface::build (the per-scene resampling) at each preset's sea_cell, and
+//   SeaSurface::eval per sample (height + gradient of the traced sea, the retessellation's kernel).
 // - the DWT accuracy knob: Fig. 4 with step x insertion distance, samples and rays as counters:
 //   the trace's time against its resolution.
 #include <benchmark/benchmark.h>
@@ -257,6 +258,39 @@ void bm_sea_build(benchmark::State& state, SceneId id) {
   state.SetLabel(scene_name(id));
 }
 
+// Height + gradient per sample of the traced sea (SeaSurface::eval, every train summed: what the
+// per-frame retessellation calls for each grid node), at realtime's sea_cell, 1003 random points
+// over the domain per call (an 8k+3 count), a new time per iteration.
+void bm_sea_eval(benchmark::State& state, SceneId id) {
+  const houle::WaveField* f = traced(id);
+  if (!f) {
+    state.SkipWithError("tracing failed");
+    return;
+  }
+  houle::Expected<houle::SeaSurface> sea = houle::SeaSurface::build(scene(id), *f, 0.5f);
+  if (!sea) {
+    state.SkipWithError(sea.error().message.c_str());
+    return;
+  }
+  const houle::Domain& d = scene(id).domain;
+  constexpr std::size_t n = 1003;
+  std::vector<float> x(n), y(n), h(n), gx(n), gy(n);
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> ux(d.x_min, d.x_max), uy(d.y_min, d.y_max);
+  for (std::size_t i = 0; i < n; ++i) x[i] = float(ux(rng)), y[i] = float(uy(rng));
+  double t = 0.0;
+  for (auto _ : state) {
+    sea.value().set_time(t);
+    sea.value().eval(x.data(), y.data(), n, h.data(), gx.data(), gy.data());
+    t += 1.0 / 30.0;
+    benchmark::DoNotOptimize(h.data());
+    benchmark::ClobberMemory();
+  }
+  set_item_counters(state, n);
+  state.counters["trains"] = double(sea.value().trains().size());
+  state.SetLabel(scene_name(id));
+}
+
 const bool registered = [] {
   for (houle::Isa isa : houle::supported_isas()) {
     benchmark::RegisterBenchmark(("dispersion_k_batch/" + std::string(houle::isa_name(isa))).c_str(),
@@ -294,6 +328,7 @@ const bool registered = [] {
         ->Arg(25)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
+    benchmark::RegisterBenchmark(("sea_surface_eval/" + std::string(scene_name(id))).c_str(), bm_sea_eval, id);
   }
   return true;
 }();

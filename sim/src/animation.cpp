@@ -68,7 +68,8 @@ Quality quality_preset(QualityPreset q) noexcept {
       break;  // the defaults of every knob
     case QualityPreset::film:
       r.render.march.step_fraction = 0.1f;
-      r.render.march.refine_iterations = 8;
+      // refine_iterations stays at 4: the hit distance is at float resolution by then, more
+      // iterations only cost evaluations (docs/accuracy.md, "Root refinement").
       r.render.samples_per_pixel = 8;
       r.surface.levels = 8;
       r.surface.cells = 512;

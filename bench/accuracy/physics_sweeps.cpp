@@ -1,0 +1,201 @@
+// The physics knobs, measured where an exact or a much finer answer exists:
+// - Dynamic Wave Tracing step and insertion distance on the built-in coast (refraction over the
+//   beach, shoaling, the jetty's diffraction): the resampled sea (realtime's sea_cell) against the
+//   one traced with the knob 8x (step) or 4x (insertion) finer, as RMS height in m over the domain
+//   at a few times and RMS amplitude relative to A0; the time is the trace (one thread).
+// - Diffraction models against the exact Sommerfeld solution (itself checked against scipy to 2e-15,
+//   diffraction.hpp): mean and max |K - K_exact| over r/L in [0.5, 10], every angle; ns per
+//   coefficient. The float A&S path (sommerfeld_field_fg, the candidate for a float kernel) is a
+//   fourth point.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "houle/sim/animation.hpp"
+#include "houle/sim/diffraction.hpp"
+#include "houle/sim/scene.hpp"
+#include "houle/sim/sea_surface.hpp"
+#include "houle/sim/wave_rays.hpp"
+#include "sweep.hpp"
+
+namespace houle::accuracy {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double pi = 3.14159265358979323846;
+
+// ---- Dynamic Wave Tracing ------------------------------------------------------------------------
+
+struct Traced {
+  SeaSurface sea;
+  double trace_ms;  ///< median over the runs
+  bool truncated;
+};
+
+Traced trace(const Scene& scene, const DwtSettings& dwt, int runs) {
+  std::vector<double> ms;
+  Expected<WaveField> f = Error{"", ""};
+  for (int i = 0; i < runs; ++i) {
+    const auto t0 = Clock::now();
+    f = trace_wave_field(scene, dwt, 1);
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    if (!f) fail(f.error());
+  }
+  Expected<SeaSurface> sea = SeaSurface::build(scene, f.value(), quality_preset(QualityPreset::realtime).sea_cell);
+  if (!sea) fail(sea.error());
+  return {std::move(sea.value()), median(ms), f.value().stats.truncated};
+}
+
+struct SurfaceError {
+  double height_m = 0.0;     ///< RMS height difference
+  double amplitude = 0.0;    ///< RMS of (A - A_ref) / A0 over trains
+};
+
+/// Over a 1 m lattice of the domain (land included: both are 0 there), at three times.
+SurfaceError surface_error(SeaSurface& a, SeaSurface& ref, const Scene& scene) {
+  std::vector<float> x, y;
+  for (double py = scene.domain.y_min + 0.5; py < scene.domain.y_max; py += 1.0) {
+    for (double px = scene.domain.x_min + 0.5; px < scene.domain.x_max; px += 1.0) x.push_back(float(px)), y.push_back(float(py));
+  }
+  const std::size_t n = x.size();
+  std::vector<float> ha(n), hr(n), g1(n), g2(n);
+  double se = 0.0, sa = 0.0;
+  std::size_t na = 0;
+  for (double t : {0.0, 2.7, 5.9}) {
+    a.set_time(t);
+    ref.set_time(t);
+    a.eval(x.data(), y.data(), n, ha.data(), g1.data(), g2.data());
+    ref.eval(x.data(), y.data(), n, hr.data(), g1.data(), g2.data());
+    for (std::size_t i = 0; i < n; ++i) se += double(ha[i] - hr[i]) * double(ha[i] - hr[i]);
+  }
+  for (std::size_t tr = 0; tr < ref.trains().size(); ++tr) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = double(a.probe(tr, x[i], y[i]).relative_amplitude) - double(ref.probe(tr, x[i], y[i]).relative_amplitude);
+      sa += d * d;
+      ++na;
+    }
+  }
+  return {std::sqrt(se / double(3 * n)), std::sqrt(sa / double(std::max<std::size_t>(na, 1)))};
+}
+
+struct DwtKnob {
+  const char* name;
+  std::vector<double> values;  ///< least accurate first
+  double reference;
+  double DwtSettings::*field;
+};
+
+void sweep_dwt(const Options& o, std::vector<Row>& rows) {
+  const Scene coast = builtin_coast();
+  const int runs = o.smoke ? 1 : 3;
+  const DwtKnob knobs[] = {
+      {"dwt.step", {1.6, 0.8, 0.4, 0.2, 0.1}, 0.05, &DwtSettings::step},
+      {"dwt.insertion_distance", {4.0, 2.0, 1.0, 0.5}, 0.25, &DwtSettings::insertion_distance},
+  };
+  for (const DwtKnob& k : knobs) {
+    if (!o.only.empty() && o.only != k.name) continue;
+    DwtSettings d = coast.dwt;
+    d.*k.field = o.smoke ? k.values[1] : k.reference;
+    Traced ref = trace(coast, d, 1);
+    std::fprintf(stderr, "%s: reference %g (%.0f ms%s)\n", k.name, d.*k.field, ref.trace_ms,
+                 ref.truncated ? ", truncated" : "");
+    const std::size_t n = o.smoke ? 1 : k.values.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      d.*k.field = k.values[i];
+      Traced t = trace(coast, d, runs);
+      const SurfaceError e = surface_error(t.sea, ref.sea, coast);
+      Row r;
+      r.knob = k.name;
+      r.value = k.values[i];
+      r.presets = k.values[i] == coast.dwt.*k.field ? "all (scene default)" : "";
+      r.time = t.trace_ms;
+      r.time_what = "trace_wave_field, 1 thread (ms)";
+      r.error = e.height_m;
+      r.error_what = "RMS height (m)";
+      r.error2 = e.amplitude;
+      r.error2_what = "RMS amplitude / A0";
+      char ref_text[96];
+      std::snprintf(ref_text, sizeof ref_text, "trace at %g m%s, built-in coast", o.smoke ? k.values[1] : k.reference,
+                    ref.truncated ? " (truncated)" : "");
+      r.reference = ref_text;
+      std::fprintf(stderr, "  %g: %.1f ms, %.4f m, %.4f A0%s\n", k.values[i], t.trace_ms, e.height_m, e.amplitude,
+                   t.truncated ? " (truncated)" : "");
+      rows.push_back(std::move(r));
+    }
+  }
+}
+
+// ---- Diffraction models --------------------------------------------------------------------------
+
+struct Point {
+  double r_over_L, theta;
+};
+
+void sweep_diffraction(const Options& o, std::vector<Row>& rows) {
+  constexpr double theta0 = pi / 2, rigid = 1.0;
+  std::vector<Point> pts(o.smoke ? 100 : 20000);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> rl(0.5, 10.0), th(1e-3, 2.0 * pi - 1e-3);
+  for (Point& p : pts) p = {rl(rng), th(rng)};
+  std::vector<double> exact(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) exact[i] = std::abs(sommerfeld_field(2.0 * pi * pts[i].r_over_L, pts[i].theta, theta0, rigid));
+
+  struct Variant {
+    const char* name;
+    double value;  ///< the CSV's value column: an index, named in `presets`
+    double (*k)(const Point&);
+  };
+  const Variant variants[] = {
+      {"paper", 0, [](const Point& p) { return diffraction(DiffractionModel::paper, p.r_over_L, p.theta, theta0, rigid).value().K; }},
+      {"paper_corrected", 1,
+       [](const Point& p) { return diffraction(DiffractionModel::paper_corrected, p.r_over_L, p.theta, theta0, rigid).value().K; }},
+      {"exact_float", 2,
+       [](const Point& p) { return double(std::abs(sommerfeld_field_fg(2.0 * pi * p.r_over_L, p.theta, theta0, 1.0f))); }},
+      {"exact", 3, [](const Point& p) { return diffraction(DiffractionModel::exact, p.r_over_L, p.theta, theta0, rigid).value().K; }},
+  };
+  for (const Variant& v : variants) {
+    std::vector<double> ns;
+    double mean = 0.0, worst = 0.0, sink = 0.0;
+    for (int rep = 0; rep < (o.smoke ? 1 : 7); ++rep) {
+      const auto t0 = Clock::now();
+      for (const Point& p : pts) sink += v.k(p);
+      ns.push_back(std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / double(pts.size()));
+    }
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const double d = std::abs(v.k(pts[i]) - exact[i]);
+      mean += d;
+      worst = std::max(worst, d);
+    }
+    if (!std::isfinite(sink)) std::fprintf(stderr, "diffraction %s: non-finite K\n", v.name);
+    Row r;
+    r.knob = "diffraction.model";
+    r.value = v.value;
+    r.presets = v.name;  // the model's name (the presets all use exact)
+    r.time = median(ns);
+    r.time_what = "per coefficient (ns)";
+    r.error = mean / double(pts.size());
+    r.error_what = "mean |K - K_exact|";
+    r.error2 = worst;
+    r.error2_what = "max |K - K_exact|";
+    r.reference = "Sommerfeld (sommerfeld_field, double), rigid wall, normal incidence, r/L in [0.5, 10]";
+    std::fprintf(stderr, "diffraction %s: %.1f ns, mean %.2e, max %.2e\n", v.name, median(ns), r.error, worst);
+    rows.push_back(std::move(r));
+  }
+}
+
+}  // namespace
+
+std::vector<Row> sweep_physics_knobs(const Options& o) {
+  std::vector<Row> rows;
+  if (o.only.empty() || o.only == "diffraction.model") sweep_diffraction(o, rows);
+  sweep_dwt(o, rows);
+  return rows;
+}
+
+}  // namespace houle::accuracy
