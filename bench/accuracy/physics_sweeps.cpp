@@ -2,7 +2,7 @@
 // - Dynamic Wave Tracing step and insertion distance on the built-in coast (refraction over the
 //   beach, shoaling, the jetty's diffraction): the resampled sea (realtime's sea_cell) against the
 //   one traced with the knob 8x (step) or 4x (insertion) finer, as RMS height in m over the domain
-//   at a few times and RMS amplitude relative to A0; the time is the trace (one thread).
+//   at a few times and RMS amplitude per train in m; the time is the trace (one thread).
 // - Diffraction models against the exact Sommerfeld solution (itself checked against scipy to 2e-15,
 //   diffraction.hpp): mean and max |K - K_exact| over r/L in [0.5, 10], every angle; ns per
 //   coefficient. The float A&S path (sommerfeld_field_fg, the candidate for a float kernel) is a
@@ -54,7 +54,7 @@ Traced trace(const Scene& scene, const DwtSettings& dwt, int runs) {
 
 struct SurfaceError {
   double height_m = 0.0;     ///< RMS height difference
-  double amplitude = 0.0;    ///< RMS of (A - A_ref) / A0 over trains
+  double amplitude = 0.0;    ///< RMS of A - A_ref (m) over the surface's trains (reflected ones included)
 };
 
 /// Over a 1 m lattice of the domain (land included: both are 0 there), at three times.
@@ -74,9 +74,11 @@ SurfaceError surface_error(SeaSurface& a, SeaSurface& ref, const Scene& scene) {
     ref.eval(x.data(), y.data(), n, hr.data(), g1.data(), g2.data());
     for (std::size_t i = 0; i < n; ++i) se += double(ha[i] - hr[i]) * double(ha[i] - hr[i]);
   }
-  for (std::size_t tr = 0; tr < ref.trains().size(); ++tr) {
+  // Wall reflection adds trains (with no deep-water amplitude of their own, so no relative one).
+  const std::size_t trains = std::min(a.trains().size(), ref.trains().size());
+  for (std::size_t tr = 0; tr < trains; ++tr) {
     for (std::size_t i = 0; i < n; ++i) {
-      const double d = double(a.probe(tr, x[i], y[i]).relative_amplitude) - double(ref.probe(tr, x[i], y[i]).relative_amplitude);
+      const double d = double(a.probe(tr, x[i], y[i]).amplitude) - double(ref.probe(tr, x[i], y[i]).amplitude);
       sa += d * d;
       ++na;
     }
@@ -119,12 +121,12 @@ void sweep_dwt(const Options& o, std::vector<Row>& rows) {
       r.error = e.height_m;
       r.error_what = "RMS height (m)";
       r.error2 = e.amplitude;
-      r.error2_what = "RMS amplitude / A0";
+      r.error2_what = "RMS amplitude (m)";
       char ref_text[96];
       std::snprintf(ref_text, sizeof ref_text, "trace at %g m%s, built-in coast", o.smoke ? k.values[1] : k.reference,
                     ref.truncated ? " (truncated)" : "");
       r.reference = ref_text;
-      std::fprintf(stderr, "  %g: %.1f ms, %.4f m, %.4f A0%s\n", k.values[i], t.trace_ms, e.height_m, e.amplitude,
+      std::fprintf(stderr, "  %g: %.1f ms, %.4f m, amplitude %.4f m%s\n", k.values[i], t.trace_ms, e.height_m, e.amplitude,
                    t.truncated ? " (truncated)" : "");
       rows.push_back(std::move(r));
     }
