@@ -306,9 +306,8 @@ def main():
           f"pixel, 2 threads, {plate3['isa']}; scene build {fmt_ms(plate3['build_ms'])}) | "
           f"`houle bench scenes/paper_plate3.toml --size 1050x675 --quality film --frames 2 --warmup 1` |")
     w("")
-    w("The paper's times are for a 180 MHz MIPS R5000 (1998); this machine is roughly 20-50x faster per core "
-      "on scalar code, so most of the distance is the algorithms (equal-phase tracing, the packet marcher "
-      "with Lipschitz steps, SIMD kernels), not the clock.")
+    w("The paper's times are for a 180 MHz MIPS R5000 (1998); the clock and the two cores account for part "
+      "of the distance, not measured here.")
     w("")
 
     # ---- Knobs ---------------------------------------------------------------------------------------
