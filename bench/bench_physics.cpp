@@ -248,7 +248,7 @@ void bm_sea_build(benchmark::State& state, SceneId id) {
       return;
     }
     nodes = 0;
-    for (const houle::TrainField& t : sea.value().trains()) nodes += t.nx * t.ny;
+    for (const houle::TrainGrid& g : sea.value().grids()) nodes += std::size_t(g.nx) * g.ny;
     benchmark::DoNotOptimize(sea.value().trains().data());
   }
   state.counters["grid_nodes"] = double(nodes);

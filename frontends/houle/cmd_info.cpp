@@ -103,7 +103,9 @@ N threads, default 2). --json prints the same facts as one JSON object.)");
   std::size_t rays_memory = 0, sea_memory = 0;
   for (const WaveRays& w : field->trains) rays_memory += ray_bytes(w);
   for (const ReflectedWave& r : field->reflections) rays_memory += ray_bytes(r.rays);
-  for (const TrainField& f : sea->trains()) sea_memory += bytes(f.phi) + bytes(f.amplitude) + bytes(f.kx) + bytes(f.ky);
+  for (const TrainField& f : sea->trains()) {
+    sea_memory += bytes(f.phi) + bytes(f.amplitude) + bytes(f.kx) + bytes(f.ky) + bytes(f.fold) + bytes(f.lean);
+  }
   const DwtStats& st = field->stats;
   const std::string name = positionals.empty() ? "built-in coast" : positionals[0];
 

@@ -33,17 +33,6 @@ struct CapillaryPoint {
   simd::vfloat<A> height, grad_x, grad_y;
 };
 
-/// floor for |x| < 2^22, exact and the same on every ISA (ARMv7 NEON has no rounding instruction).
-template <class V>
-inline V floor_exact(V x) {
-  const V r = simd::round_nearest(x);
-  if constexpr (std::is_same_v<V, float>) {
-    return r - static_cast<float>(r > x);  // no branch: r > x is a coin toss for the predictor
-  } else {
-    return r - simd::select(r > x, V(1.0f), V(0.0f));
-  }
-}
-
 /// Catmull-Rom weights times 2 (the 1/2 is folded into value_scale) and their derivatives at the
 /// fractional position t in [0, 1], Horner form (rendering.md 5.1), one lattice offset at a time.
 template <class V>
@@ -145,7 +134,7 @@ inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, const std::int
     const V mxu(f.mxu[i]), myu(f.myu[i]), mxv(f.mxv[i]), myv(f.myv[i]);
     const V u = (mxu * x + myu * y) + f.off_u[i];
     const V v = (mxv * x + myv * y) + f.off_v[i];
-    const V cu = floor_exact(u), cv = floor_exact(v);
+    const V cu = simd::floor_exact(u), cv = simd::floor_exact(v);
     const RowWeights<V, Grad> wu(CatmullRom2<V>(u - cu));  // fractions are exact
     const CatmullRom2<V> wv(v - cv);
     // Two's-complement & 255 is the cell modulo the period, also for negative cells.

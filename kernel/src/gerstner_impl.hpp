@@ -3,17 +3,13 @@
 #include <algorithm>
 
 #include "houle/kernel/gerstner.hpp"
+#include "height_field_impl.hpp"
 #include "houle/simd/simd.hpp"
 
 namespace houle::detail {
 
 template <class A>
-struct GerstnerPoint {
-  simd::vfloat<A> height, grad_x, grad_y;
-};
-
-template <class A>
-inline GerstnerPoint<A> gerstner_point(const GerstnerFrame& f, simd::vfloat<A> x, simd::vfloat<A> y, int newton_steps) {
+inline HeightFieldPoint<A> gerstner_point(const GerstnerFrame& f, simd::vfloat<A> x, simd::vfloat<A> y, int newton_steps) {
   using V = simd::vfloat<A>;
   V ux = x, uy = y;
   // Each pass evaluates the trains at u; the last pass only gives height and gradient.
@@ -52,28 +48,10 @@ inline GerstnerPoint<A> gerstner_point(const GerstnerFrame& f, simd::vfloat<A> x
 template <class A>
 void gerstner_eval(const GerstnerFrame& f, const float* x, const float* y, std::size_t n, GerstnerOutput out,
                    int newton_steps) noexcept {
-  constexpr std::size_t W = simd::width<A>;
   newton_steps = std::max(newton_steps, 1);
-  std::size_t i = 0;
-  for (; i + W <= n; i += W) {
-    const GerstnerPoint<A> p = gerstner_point<A>(f, simd::load<A>(x + i), simd::load<A>(y + i), newton_steps);
-    simd::store<A>(out.height + i, p.height);
-    simd::store<A>(out.grad_x + i, p.grad_x);
-    simd::store<A>(out.grad_y + i, p.grad_y);
-  }
-  if (i < n) {
-    // The tail goes through the same full-width code on a padded copy, so every lane is computed alike.
-    alignas(64) float tx[W] = {}, ty[W] = {}, th[W], tgx[W], tgy[W];
-    std::copy(x + i, x + n, tx);
-    std::copy(y + i, y + n, ty);
-    const GerstnerPoint<A> p = gerstner_point<A>(f, simd::load<A>(tx), simd::load<A>(ty), newton_steps);
-    simd::store<A>(th, p.height);
-    simd::store<A>(tgx, p.grad_x);
-    simd::store<A>(tgy, p.grad_y);
-    std::copy(th, th + (n - i), out.height + i);
-    std::copy(tgx, tgx + (n - i), out.grad_x + i);
-    std::copy(tgy, tgy + (n - i), out.grad_y + i);
-  }
+  eval_height_field<A>(x, y, n, out, [&](simd::vfloat<A> px, simd::vfloat<A> py) {
+    return gerstner_point<A>(f, px, py, newton_steps);
+  });
 }
 
 }  // namespace houle::detail

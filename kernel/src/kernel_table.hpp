@@ -5,6 +5,7 @@
 #include "houle/kernel/capillary.hpp"
 #include "houle/kernel/gerstner.hpp"
 #include "houle/kernel/optics.hpp"
+#include "houle/kernel/train_grid.hpp"
 #include "march_context.hpp"
 #include "surface_bounds.hpp"
 
@@ -18,6 +19,7 @@ struct KernelTable {
                          float*) noexcept;
   void (*march_rays)(const MarchContext&, const MarchRays&, std::size_t, const MarchHits&) noexcept;
   void (*surface_column_stats)(const ColumnStatsJob&) noexcept;
+  void (*train_grid_eval)(const TrainGridFrame&, const float*, const float*, std::size_t, GerstnerOutput) noexcept;
 };
 
 }  // namespace houle::detail

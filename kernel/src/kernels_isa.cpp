@@ -6,6 +6,7 @@
 #include "optics_impl.hpp"
 #include "march_impl.hpp"
 #include "surface_bounds_impl.hpp"
+#include "train_grid_impl.hpp"
 #include "kernel_table.hpp"
 
 namespace houle::detail {
@@ -13,7 +14,7 @@ namespace {
 template <class A>
 constexpr KernelTable make_kernel_table() {
   return {&gerstner_eval<A>, &fresnel_batch<A>, &reflect_refract_batch<A>, &capillary_eval<A>,
-          &march_rays<A>, &surface_column_stats<A>};
+          &march_rays<A>, &surface_column_stats<A>, &train_grid_eval<A>};
 }
 }  // namespace
 }  // namespace houle::detail

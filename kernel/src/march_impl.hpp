@@ -14,6 +14,7 @@
 
 #include "capillary_impl.hpp"
 #include "houle/kernel/march.hpp"
+#include "houle/simd/gather.hpp"
 #include "houle/simd/simd.hpp"
 #include "march_context.hpp"
 
@@ -25,73 +26,12 @@ namespace houle::detail {
 // ---- Small lane helpers (templates on A: nothing here is emitted outside an ISA's own symbols) ----
 
 template <class A>
-struct MarchIndexType {
-  using type = std::int32_t;
-};
-#if HOULE_SIMD_BATCHES
-template <class A>
-  requires(!std::is_same_v<A, simd::scalar>)
-struct MarchIndexType<A> {
-  using type = xsimd::batch<std::int32_t, A>;
-};
-#endif
-template <class A>
-using MarchIndex = typename MarchIndexType<A>::type;
-
-/// Integral float in [0, 2^24) to an int32 lane: exact.
-template <class A>
-HOULE_MARCH_INLINE MarchIndex<A> march_index(simd::vfloat<A> x) {
-#if HOULE_SIMD_BATCHES
-#if defined(__AVX512F__)
-  // xsimd's conversion goes through _mm512_cvttps_epi32, whose _mm512_undefined_epi32 trips gcc 12's
-  // -Wuninitialized once inlined; the zero-masked form is the same instruction without it.
-  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
-    return _mm512_maskz_cvttps_epi32(static_cast<__mmask16>(0xFFFF), x);
-  } else
-#endif
-  if constexpr (!std::is_same_v<A, simd::scalar>) {
-    return xsimd::batch_cast<std::int32_t>(x);
-  } else
-#endif
-  {
-    return static_cast<std::int32_t>(x);
-  }
-}
-
-/// p[i] per lane: AVX2 and AVX-512 through their gather instructions (xsimd 8.1's batch::gather
-/// reaches only its generic lane-by-lane fallback, out of line), the others lane by lane.
-template <class A>
-HOULE_MARCH_INLINE simd::vfloat<A> march_gather(const float* p, MarchIndex<A> i) {
-#if HOULE_SIMD_BATCHES
-#if defined(__AVX512F__)
-  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
-    // The masked form: the plain one's _mm512_undefined_ps trips gcc 12's -Wuninitialized.
-    return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), static_cast<__mmask16>(0xFFFF), i, p, 4);
-  } else
-#endif
-#if defined(__AVX2__)
-  if constexpr (std::is_base_of_v<xsimd::avx2, A>) {
-    return _mm256_i32gather_ps(p, i, 4);
-  } else
-#endif
-  if constexpr (!std::is_same_v<A, simd::scalar>) {
-    constexpr std::size_t W = simd::width<A>;
-    alignas(64) std::int32_t idx[W];
-    alignas(64) float v[W];
-    i.store_aligned(idx);
-    for (std::size_t l = 0; l < W; ++l) v[l] = p[idx[l]];
-    return simd::vfloat<A>::load_aligned(v);
-  } else
-#endif
-  {
-    return p[i];
-  }
-}
+using MarchIndex = simd::vint<A>;
 
 /// 2^l for integral l in [-126, 127], built from the exponent bits: exact.
 template <class A>
 HOULE_MARCH_INLINE simd::vfloat<A> march_pow2(simd::vfloat<A> l) {
-  const MarchIndex<A> i = march_index<A>(l);
+  const MarchIndex<A> i = simd::to_int_exact(l);
 #if HOULE_SIMD_BATCHES
   if constexpr (!std::is_same_v<A, simd::scalar>) {
     // A multiply, not a shift: gcc 12 warns inside the AVX-512 shift intrinsic (_mm512_undefined_epi32).
@@ -113,14 +53,6 @@ HOULE_MARCH_INLINE simd::vfloat<A> vmin(simd::vfloat<A> a, simd::vfloat<A> b) {
 template <class A>
 HOULE_MARCH_INLINE simd::vfloat<A> vmax(simd::vfloat<A> a, simd::vfloat<A> b) {
   return simd::select(a < b, b, a);
-}
-
-/// floor of x in [0, 2^22): the rounding-by-addition of simd.hpp, then a correction.
-template <class A>
-HOULE_MARCH_INLINE simd::vfloat<A> march_floor(simd::vfloat<A> x) {
-  using V = simd::vfloat<A>;
-  const V r = simd::round_nearest(x);
-  return r - simd::select(r > x, V(1.0f), V(0.0f));
 }
 
 /// log2(x) for x in [1e-30, 1e30] (clamped), absolute error < 2e-6: exponent from the bits, then
@@ -176,11 +108,11 @@ HOULE_MARCH_INLINE GridTap<A> grid_tap(const MarchContext& c, simd::vfloat<A> px
   u = simd::select(u < n, u, n);
   v = simd::select(v > 0.0f, v, V(0.0f));
   v = simd::select(v < n, v, n);
-  V iu = march_floor<A>(u), iv = march_floor<A>(v);
+  V iu = simd::floor_exact(u), iv = simd::floor_exact(v);
   iu = simd::select(iu < last, iu, last);
   iv = simd::select(iv < last, iv, last);
   GridTap<A> t;
-  t.node = march_index<A>(node_base + iv * c.stride_f + iu);
+  t.node = simd::to_int_exact(node_base + iv * c.stride_f + iu);
   t.fu = u - iu;
   t.fv = v - iv;
   t.iu = iu;
@@ -191,8 +123,8 @@ HOULE_MARCH_INLINE GridTap<A> grid_tap(const MarchContext& c, simd::vfloat<A> px
 template <class A>
 HOULE_MARCH_INLINE simd::vfloat<A> bilinear(const float* field, std::size_t stride, const GridTap<A>& t) {
   using V = simd::vfloat<A>;
-  const V h00 = march_gather<A>(field, t.node), h10 = march_gather<A>(field + 1, t.node);
-  const V h01 = march_gather<A>(field + stride, t.node), h11 = march_gather<A>(field + stride + 1, t.node);
+  const V h00 = simd::gather(field, t.node), h10 = simd::gather(field + 1, t.node);
+  const V h01 = simd::gather(field + stride, t.node), h11 = simd::gather(field + stride + 1, t.node);
   const V a = h00 + t.fu * (h10 - h00), b = h01 + t.fu * (h11 - h01);
   return a + t.fv * (b - a);
 }
@@ -262,17 +194,17 @@ HOULE_MARCH_INLINE StepBounds<A> step_bounds(const MarchContext& c, const Locate
                                               TileCache<A>& cache) {
   using V = simd::vfloat<A>;
   const V big(1e30f);
-  const V ti = march_floor<A>(s.tap.iu * c.inv_tile_cells), tj = march_floor<A>(s.tap.iv * c.inv_tile_cells);
+  const V ti = simd::floor_exact(s.tap.iu * c.inv_tile_cells), tj = simd::floor_exact(s.tap.iv * c.inv_tile_cells);
   const V key = s.level * c.level_tiles + tj * c.tiles_per_side + ti;
   // A ray takes several steps per tile: gather only when some active lane has moved to another tile
   // (lanes that have not get the same values again, so the result does not depend on the packet).
   if (simd::any(active & (key != cache.key))) {
-    const MarchIndex<A> k = march_index<A>(key);
+    const MarchIndex<A> k = simd::to_int_exact(key);
     cache.key = key;
-    cache.bounds.h_min = march_gather<A>(c.tile_min, k);
-    cache.bounds.h_max = march_gather<A>(c.tile_max, k);
-    cache.bounds.slope_x = march_gather<A>(c.tile_slope_x, k);
-    cache.bounds.slope_y = march_gather<A>(c.tile_slope_y, k);
+    cache.bounds.h_min = simd::gather(c.tile_min, k);
+    cache.bounds.h_max = simd::gather(c.tile_max, k);
+    cache.bounds.slope_x = simd::gather(c.tile_slope_x, k);
+    cache.bounds.slope_y = simd::gather(c.tile_slope_y, k);
   }
   StepBounds<A> b = cache.bounds;
   // The tile, clipped to the level's reach (beyond it a coarser level's bounds apply).

@@ -489,6 +489,23 @@ std::uint32_t Renderer::width() const noexcept { return impl_->width; }
 std::uint32_t Renderer::height() const noexcept { return impl_->height; }
 unsigned Renderer::threads() const noexcept { return impl_->pool->size(); }
 
+void Renderer::fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept {
+  struct Fill {
+    SurfaceFrame* surface;
+    SurfaceSampler sampler;
+    void* context;
+    unsigned parts;
+  } fill{&surface, sampler, context, std::min(impl_->pool->size(), SurfaceFrame::max_fill_parts)};
+  surface.begin_fill();
+  impl_->pool->run(
+      [](void* c, unsigned worker) noexcept {
+        const Fill& f = *static_cast<const Fill*>(c);
+        if (worker < f.parts) f.surface->fill_part(f.sampler, f.context, worker, f.parts);
+      },
+      &fill);
+  surface.finish_frame();
+}
+
 void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, const CapillaryParams* noise_params,
                       const Camera& camera, Framebuffer& out, RenderView view) noexcept {
   const auto start = Clock::now();

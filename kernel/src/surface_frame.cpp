@@ -31,10 +31,11 @@ Layout layout(const SurfaceFrameConfig& c) {
   l.tiles = c.cells / c.tile_cells;
   l.tile_floats = round_up(std::size_t(c.levels) * l.tiles * l.tiles, align_floats);
   l.flag_floats = round_up((std::size_t(c.levels) * l.tiles * l.tiles + 3) / 4, align_floats);  // one byte per tile
-  // height, grad_x, grad_y; four tile arrays; the tiles' fill flags; two fill rows; the bounds pass's
+  // height, grad_x, grad_y; four tile arrays; the tiles' fill flags; the fill's x and y rows per part;
+  // the bounds pass's
   // 4 column arrays, with a batch of slack after each (the column kernel works in whole batches).
-  l.total_floats = 3 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats + 2 * l.stride +
-                   4 * (l.stride + align_floats);
+  l.total_floats = 3 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats +
+                   2 * SurfaceFrame::max_fill_parts * l.stride + 4 * (l.stride + align_floats);
   return l;
 }
 
@@ -116,8 +117,8 @@ Expected<SurfaceFrame> SurfaceFrame::create(const SurfaceFrameConfig& config) {
   // Raw storage from operator new: bytes may live in it.
   f.needed_ = reinterpret_cast<std::uint8_t*>(f.tile_sy_ + l.tile_floats);
   f.row_x_ = f.tile_sy_ + l.tile_floats + l.flag_floats;
-  f.row_y_ = f.row_x_ + l.stride;
-  f.scratch_ = f.row_y_ + l.stride;
+  f.row_y_ = f.row_x_ + SurfaceFrame::max_fill_parts * l.stride;
+  f.scratch_ = f.row_y_ + SurfaceFrame::max_fill_parts * l.stride;
   f.begin_frame(0.0f, 0.0f);
   f.global_ = {config.far_height, config.far_height, 0.0f, 0.0f};
   return f;
@@ -281,14 +282,22 @@ SurfaceFrameView SurfaceFrame::view() const noexcept {
 }
 
 void SurfaceFrame::fill(SurfaceSampler sampler, void* context) noexcept {
+  begin_fill();
+  fill_part(sampler, context, 0, 1);
+  finish_frame();
+}
+
+void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned part, unsigned parts) noexcept {
   const std::uint32_t nodes = config_.cells + 1, tc = config_.tile_cells;
-  morphed_ = false;  // fresh samples
+  float* row_x = row_x_ + std::size_t(part) * stride_;
+  float* row_y = row_y_ + std::size_t(part) * stride_;
+  // Node rows are dealt out round-robin over all levels: parts get equal shares of every level.
+  std::size_t row_index = 0;
   for (std::uint32_t l = 0; l < config_.levels; ++l) {
     const SurfaceLevel& s = levels_[l];
     const std::uint8_t* need = needed_ + std::size_t(l) * tiles_ * tiles_;
-    // Node coordinates exactly as the marcher's grid coordinates invert them: origin + i * cell.
-    for (std::uint32_t i = 0; i < nodes; ++i) row_x_[i] = s.origin_x + float(i) * s.cell;
-    for (std::uint32_t j = 0; j < nodes; ++j) {
+    for (std::uint32_t j = 0; j < nodes; ++j, ++row_index) {
+      if (row_index % parts != part) continue;
       // The tile rows this node row belongs to (two on a tile boundary); runs of needed tiles.
       const std::uint32_t upper = std::min(j / tc, tiles_ - 1), lower = j % tc == 0 && j > 0 ? j / tc - 1 : upper;
       const float y = s.origin_y + float(j) * s.cell;
@@ -302,17 +311,14 @@ void SurfaceFrame::fill(SurfaceSampler sampler, void* context) noexcept {
         std::uint32_t end = ti + 1;
         while (end < tiles_ && wanted(end)) ++end;
         const std::size_t i0 = std::size_t(ti) * tc, count = std::size_t(end - ti) * tc + 1;
-        std::fill(row_y_, row_y_ + count, y);
-        sampler(context, row_x_ + i0, row_y_, count, heights(l) + o + i0, grad_x(l) + o + i0, grad_y(l) + o + i0);
+        // Node coordinates exactly as the marcher's grid coordinates invert them: origin + i * cell.
+        for (std::size_t i = 0; i < count; ++i) row_x[i] = s.origin_x + float(i0 + i) * s.cell;
+        std::fill(row_y, row_y + count, y);
+        sampler(context, row_x, row_y, count, heights(l) + o + i0, grad_x(l) + o + i0, grad_y(l) + o + i0);
         ti = end;
       }
     }
-    // Level l - 1's morph needs this level (its partner): finish it while its rows are warm.
-    if (l > 0) finish_level(l - 1);
   }
-  finish_level(config_.levels - 1);
-  finish_global();
-  morphed_ = true;
 }
 
 void SurfaceFrame::finish_frame() noexcept {

@@ -132,7 +132,8 @@ void Animation::render(double time_s, Framebuffer& out) noexcept {
   auto t0 = Clock::now();
   sea_->set_time(time_s);
   surface_.begin_frame(camera_.position[0], camera_.position[1]);
-  surface_.fill(&SeaSurface::sample, sea_.get());
+  surface_.restrict_to_view(camera_);  // every ray the renderer marches over the sea starts at the camera
+  renderer_.fill_surface(surface_, &SeaSurface::sample, sea_.get());
   times_.surface_ms = ms_since(t0);
   t0 = Clock::now();
   const CapillaryFrame* noise = nullptr;

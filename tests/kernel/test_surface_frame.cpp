@@ -280,6 +280,45 @@ TEST(SurfaceFrame, FillEqualsFinishFrameAndIsDeterministic) {
   EXPECT_EQ(a.z_max(), b.z_max());
 }
 
+// The fill split into parts (as Renderer::fill_surface runs it on its threads), parts run in any
+// order, gives the very frame of the one-piece fill: nodes, morph and bounds.
+TEST(SurfaceFrame, FillInPartsEqualsTheWholeFill) {
+  SurfaceFrameConfig cfg;
+  cfg.levels = 4;
+  cfg.cells = 128;
+  const auto waves = houle::make_gerstner_frame(coastal_waves(), 2.5);
+  ASSERT_TRUE(waves.ok());
+  SurfaceFrame whole = make_frame(cfg);
+  whole.begin_frame(7.0f, -3.0f);
+  houle::fill_gerstner(whole, waves.value());
+  const auto sampler = [](void* c, const float* x, const float* y, std::size_t n, float* h, float* gx, float* gy) noexcept {
+    houle::gerstner_eval(*static_cast<const houle::GerstnerFrame*>(c), x, y, n, {h, gx, gy});
+  };
+  for (unsigned parts : {2u, 3u, SurfaceFrame::max_fill_parts}) {
+    SurfaceFrame split = make_frame(cfg);
+    split.begin_frame(7.0f, -3.0f);
+    split.begin_fill();
+    for (unsigned p = parts; p-- > 0;) split.fill_part(sampler, const_cast<houle::GerstnerFrame*>(&waves.value()), p, parts);
+    split.finish_frame();
+    const std::size_t floats = (cfg.cells + 1) * whole.stride();
+    for (std::uint32_t l = 0; l < cfg.levels; ++l) {
+      for (std::size_t k = 0; k < floats; ++k) {
+        ASSERT_EQ(whole.heights(l)[k], split.heights(l)[k]) << parts << " parts, level " << l << " float " << k;
+        ASSERT_EQ(whole.grad_x(l)[k], split.grad_x(l)[k]);
+        ASSERT_EQ(whole.grad_y(l)[k], split.grad_y(l)[k]);
+      }
+      for (std::uint32_t j = 0; j < whole.tiles_per_side(); ++j) {
+        for (std::uint32_t i = 0; i < whole.tiles_per_side(); ++i) {
+          ASSERT_EQ(whole.tile(l, i, j).h_max, split.tile(l, i, j).h_max);
+          ASSERT_EQ(whole.tile(l, i, j).slope_x, split.tile(l, i, j).slope_x);
+        }
+      }
+    }
+    EXPECT_EQ(whole.z_min(), split.z_min());
+    EXPECT_EQ(whole.z_max(), split.z_max());
+  }
+}
+
 TEST(SurfaceFrame, SurfaceIsContinuousAcrossLevelsAndInTheCameraPosition) {
   // No popping: H(x, y) changes by O(epsilon) when the point or the camera moves by epsilon, including
   // across reach boundaries, blend bands and tile snapping of the grids.

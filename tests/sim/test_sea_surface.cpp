@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 
+#include "houle/sim/bathymetry.hpp"
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/sea_surface.hpp"
@@ -131,6 +133,53 @@ TEST(SeaSurface, ProbeReportsTheDiffractionCoefficient) {
   EXPECT_EQ(s.probe(0, -10.0f, -10.0f).diffraction, 1.0f);
   const houle::SeaSurface deep = build(deep_sea());
   EXPECT_EQ(deep.probe(0, 50.0f, 50.0f).diffraction, 1.0f);
+}
+
+// Fournier-Reeves depth effects on a planar beach: the orbit's horizontal excursion (fold) and the
+// crest's lean grow as the water shoals, and never pass the fold-free limit sqrt(Q^2 + L^2) <= 0.9.
+TEST(SeaSurface, ShoalingFlattensOrbitsAndLeansCrestsWithoutFolding) {
+  houle::Scene scene = deep_sea();
+  scene.floor.base.kind = houle::FloorKind::planar_beach;
+  scene.floor.base.depth = 12.0;
+  scene.floor.base.slope = 0.05;
+  scene.floor.base.shoreline = {0.0, 150.0};
+  scene.trains[0].direction_deg = 90.0;
+  scene.trains[0].steepness = 1.0;
+  houle::SeaSurface s = build(scene);
+  const houle::TrainGrid& g = s.grids()[0];
+  ASSERT_GE(g.nx, 2u);
+  double worst = 0.0;
+  for (std::size_t n = 0; n < std::size_t(g.nx) * g.ny; ++n) worst = std::max(worst, std::hypot(double(g.fold[n]), double(g.lean[n])));
+  std::printf("beach: max sqrt(Q^2 + L^2) = %.6f (limit 0.9)\n", worst);
+  EXPECT_LE(worst, 0.9 + 1e-6);
+  // Five times the amplitude: the tracer's breaking cap H <= 0.142 L tanh(kh), i.e. kA <= 0.142 pi
+  // tanh(kh), bounds the fold by q 0.142 pi (q = 1 here) before the fold-free limit is needed.
+  houle::Scene steep = scene;
+  steep.trains[0].amplitude *= 5.0;
+  const houle::SeaSurface s5 = build(steep);
+  const houle::TrainGrid& g5 = s5.grids()[0];
+  double worst5 = 0.0;
+  for (std::size_t n = 0; n < std::size_t(g5.nx) * g5.ny; ++n) worst5 = std::max(worst5, double(g5.fold[n]));
+  std::printf("steep beach: max fold %.6f (breaking bound %.6f)\n", worst5, 0.142 * std::numbers::pi);
+  // 1 % slack: nodes average A and k over the splat's tent (radius 1.5 m, 7.5 cm of depth on this
+  // 1:20 slope) but take kh at their own depth, so a node's kA coth(kh) can exceed its samples' by that much.
+  EXPECT_LE(worst5, 1.01 * 0.142 * std::numbers::pi);
+  EXPECT_GT(worst5, 0.8 * 0.142 * std::numbers::pi);  // the cap is reached, not avoided
+  // Along the middle column, deep (y = 10 m) to shallow (y = 90 m): where the limit is not reached,
+  // Q = q k A coth(kh) and L / Q = e^{-kh} exactly, with h the floor's depth at the node.
+  const houle::Bathymetry floor(scene.floor);
+  const std::size_t i = g.nx / 2;
+  double previous_ratio = 0.0;
+  for (double y = 10.0; y <= 90.0; y += 10.0) {
+    const std::size_t n = std::size_t(std::lround((y - g.origin_y) / g.cell)) * g.nx + i;
+    const double x = g.origin_x + double(i) * g.cell, yn = g.origin_y + double(n / g.nx) * g.cell;
+    const double k = std::hypot(double(g.kx[n]), double(g.ky[n])), kh = k * floor.depth(x, yn);
+    ASSERT_GT(g.amplitude[n], 0.0f);
+    EXPECT_NEAR(g.fold[n], k * g.amplitude[n] / std::tanh(kh), 1e-5) << "y = " << y;
+    EXPECT_NEAR(g.lean[n] / g.fold[n], std::exp(-kh), 1e-5) << "y = " << y;
+    EXPECT_GT(std::exp(-kh), previous_ratio);  // shoaling all the way
+    previous_ratio = std::exp(-kh);
+  }
 }
 
 }  // namespace

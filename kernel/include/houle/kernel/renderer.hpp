@@ -144,6 +144,10 @@ class Renderer {
   void render(const SurfaceFrame& surface, const CapillaryFrame* noise, const CapillaryParams* noise_params,
               const Camera& camera, Framebuffer& out, RenderView view = RenderView::shaded) noexcept;
 
+  /// SurfaceFrame::fill on this renderer's threads (the per-frame retessellation shares them with
+  /// render()): `sampler` must allow concurrent calls. The frame is the same as fill() gives.
+  void fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept;
+
   const FrameTimes& last_times() const noexcept;
   const RenderCounters& last_counters() const noexcept;
   std::uint32_t width() const noexcept;

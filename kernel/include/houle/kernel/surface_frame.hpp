@@ -128,9 +128,15 @@ class SurfaceFrame {
   const float* grad_x(std::uint32_t l) const noexcept { return grad_x_ + l * level_floats_; }
   const float* grad_y(std::uint32_t l) const noexcept { return grad_y_ + l * level_floats_; }
 
-  /// Evaluates every node to be filled with `sampler` (runs of at most cells + 1 points along a row)
-  /// and finishes level by level as it goes (the same result as finish_frame()).
+  /// Evaluates every node to be filled with `sampler` (runs of at most cells + 1 points along a row),
+  /// then finish_frame().
   void fill(SurfaceSampler sampler, void* context) noexcept;
+  /// fill() in `parts` (1..max_fill_parts) pieces that may run concurrently (the sampler must allow
+  /// it): begin_fill(), then fill_part(sampler, context, p, parts) once for every p in [0, parts) from
+  /// any threads, then finish_frame(). Every node is computed alike: the frame does not depend on parts.
+  static constexpr unsigned max_fill_parts = 8;
+  void begin_fill() noexcept { morphed_ = false; }
+  void fill_part(SurfaceSampler sampler, void* context, unsigned part, unsigned parts) noexcept;
   /// Morphs the band nodes (once per fill) and computes tile bounds, global bounds and the slab.
   void finish_frame() noexcept;
 
@@ -172,8 +178,8 @@ class SurfaceFrame {
   float* tile_sx_ = nullptr;
   float* tile_sy_ = nullptr;
   std::uint8_t* needed_ = nullptr;  ///< per tile: filled this frame
-  float* row_x_ = nullptr;  ///< fill scratch: node x coordinates of a row
-  float* row_y_ = nullptr;  ///< fill scratch: the row's y, repeated
+  float* row_x_ = nullptr;  ///< fill scratch: per part, node x coordinates of a row
+  float* row_y_ = nullptr;  ///< fill scratch: per part, the row's y repeated
   float* scratch_ = nullptr;  ///< bounds pass: column statistics and partner rows
   std::array<SurfaceLevel, max_levels> levels_{};
   float centre_x_ = 0.0f, centre_y_ = 0.0f;

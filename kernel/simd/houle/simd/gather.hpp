@@ -45,10 +45,16 @@ inline std::int32_t signed_byte(std::int32_t w) {
 
 /// table[index] per lane.
 inline std::int32_t gather(const std::int32_t* table, std::int32_t index) { return table[index]; }
+inline float gather(const float* table, std::int32_t index) { return table[index]; }
 
 #if HOULE_SIMD_BATCHES
 template <class A>
 inline xsimd::batch<std::int32_t, A> to_int_exact(xsimd::batch<float, A> x) {
+#if defined(__AVX512F__)
+  // xsimd's conversion goes through _mm512_cvttps_epi32, whose _mm512_undefined_epi32 trips gcc 12's
+  // -Wuninitialized once inlined; the zero-masked form is the same instruction without it.
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) return _mm512_maskz_cvttps_epi32(static_cast<__mmask16>(0xFFFF), x);
+#endif
   return xsimd::batch_cast<std::int32_t>(x);
 }
 template <class A>
@@ -84,6 +90,28 @@ inline xsimd::batch<std::int32_t, A> gather(const std::int32_t* table, xsimd::ba
     index.store_aligned(idx);
     for (std::size_t l = 0; l < W; ++l) out[l] = table[idx[l]];
     return xsimd::batch<std::int32_t, A>::load_aligned(out);
+  }
+}
+template <class A>
+inline xsimd::batch<float, A> gather(const float* table, xsimd::batch<std::int32_t, A> index) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+    // The masked form: the plain one's _mm512_undefined_ps trips gcc 12's -Wuninitialized.
+    return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), static_cast<__mmask16>(0xFFFF), index, table, 4);
+  } else
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, A>) {
+    return _mm256_i32gather_ps(table, index, 4);
+  } else
+#endif
+  {
+    constexpr std::size_t W = xsimd::batch<float, A>::size;
+    alignas(64) std::int32_t idx[W];
+    alignas(64) float out[W];
+    index.store_aligned(idx);
+    for (std::size_t l = 0; l < W; ++l) out[l] = table[idx[l]];
+    return xsimd::batch<float, A>::load_aligned(out);
   }
 }
 #endif

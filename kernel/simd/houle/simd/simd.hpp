@@ -135,6 +135,18 @@ inline V round_nearest(V x) {
   return (x + magic) - magic;
 }
 
+/// floor for |x| < 2^22: the rounding above, then a correction; exact and the same on every ISA
+/// (ARMv7 NEON has no rounding instruction).
+template <class V>
+inline V floor_exact(V x) {
+  const V r = round_nearest(x);
+  if constexpr (std::is_same_v<V, float>) {
+    return r - static_cast<float>(r > x);  // no branch: r > x is a coin toss for the predictor
+  } else {
+    return r - select(r > x, V(1.0f), V(0.0f));
+  }
+}
+
 /// sin and cos together. Range reduction by pi/2 in three parts (Cody-Waite; exact for |x| < ~1e5),
 /// then the minimax polynomials of Cephes' sinf/cosf on [-pi/4, pi/4]. Only +, -, *: the result is
 /// bit-identical for every width and ISA. Max abs error 1.2e-7 for |x| <= 1e4 (tests/kernel/test_simd).

@@ -8,35 +8,30 @@
 // diffraction, land). Outside the domain a train continues as straight crests with its entry
 // wavenumber and amplitude (the tracer's own convention upstream of the domain).
 //
-// Per frame only the phase changes: theta = phi - (omega t - phase) with omega t reduced in double.
-// The profile is trochoidal to first order in the steepness: the Gerstner displacement
-// x = u + q A D cos(theta(u)) inverted once, theta' = theta - q k A cos(theta), h = A sin(theta'),
-// with q k A capped below 1 so the profile never folds. Gradients of the trains add (eq. 8).
+// The shape along the rays is the depth-aware trochoid of houle/kernel/train_grid.hpp, which also
+// evaluates the summed trains per frame (SIMD; only the phase changes per frame: omega t reduced in
+// double). Per node, once per scene: the fold Q = q k A coth(kh) (Airy orbits flatten into ellipses
+// whose horizontal axis is A coth kh) and the lean L = Q e^{-kh} (the crest leans shoreward as the
+// water shoals, Fournier & Reeves 1986; physics.md 3.2 gives no constants, so none are invented
+// beyond this), scaled together so that sqrt(Q^2 + L^2) <= 0.9: the profile never folds.
 #pragma once
 #include <cstddef>
 #include <vector>
 
 #include "houle/kernel/expected.hpp"
+#include "houle/kernel/train_grid.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/sim/wave_rays.hpp"
 
 namespace houle {
 
-/// One train's static fields. `nx * ny` nodes at origin + (i, j) * cell (empty for analytic trains).
+/// One train's static fields: the arrays behind its TrainGrid (empty for analytic trains).
 struct TrainField {
-  double omega = 0.0;        ///< rad/s
-  double phase = 0.0;        ///< rad, the train's phase offset
-  float steepness = 0.0f;    ///< Gerstner q
-  // Straight crests outside the grid (and everywhere for analytic trains):
-  // phase = far_k (dir . p) - far_offset.
-  float dir_x = 1.0f, dir_y = 0.0f;
-  float far_k = 0.0f, far_amplitude = 0.0f;
-  double far_offset = 0.0;
-  // The grid.
-  float origin_x = 0.0f, origin_y = 0.0f, cell = 1.0f;
-  std::size_t nx = 0, ny = 0;
-  std::vector<float> phi, amplitude, kx, ky;
+  double omega = 0.0;  ///< rad/s
+  double phase = 0.0;  ///< rad, the train's phase offset
+  std::vector<float> phi, amplitude, kx, ky, fold, lean;
   /// K' on the grid (0 where no wave arrived), or empty: 1 everywhere (no diffraction in this train).
+  /// Only probe() reads it.
   std::vector<float> diffraction;
 };
 
@@ -55,6 +50,9 @@ class SeaSurface {
   /// `cell` is the resampling grid's spacing in m (> 0).
   static Expected<SeaSurface> build(const Scene& scene, const WaveField& field, float cell = 0.5f);
 
+  SeaSurface(SeaSurface&&) noexcept = default;
+  SeaSurface& operator=(SeaSurface&&) noexcept = default;
+
   /// Fixes the time every later eval() uses (per-frame phases reduced modulo 2 pi in double).
   void set_time(double time_s) noexcept;
   /// Height (m, above still water) and gradient at n points; no allocation.
@@ -68,17 +66,20 @@ class SeaSurface {
 
   /// The scene's trains in order, then one field per reflected wave (WaveField::reflections).
   const std::vector<TrainField>& trains() const noexcept { return trains_; }
+  /// Per field of trains(), the grid the kernel evaluates (far fields included).
+  const std::vector<TrainGrid>& grids() const noexcept { return grids_; }
   /// Bound of |h| (the sum of the largest amplitudes): for the marcher's slab.
   float height_bound() const noexcept { return height_bound_; }
 
  private:
-  std::vector<TrainField> trains_;
-  struct Local {
-    float phi, amplitude, kx, ky;
-  };
-  Local local(const TrainField& f, float x, float y) const noexcept;
+  SeaSurface() = default;
+  // The grids point into trains_' arrays and frame_ into grids_: moving keeps both (vectors move
+  // their buffers), copying would not.
+  SeaSurface(const SeaSurface&) = delete;
 
-  std::vector<float> time_phase_;  ///< per train, (omega t - phase) mod 2 pi
+  std::vector<TrainField> trains_;
+  std::vector<TrainGrid> grids_;  ///< per train, pointing into trains_' arrays
+  TrainGridFrame frame_{};
   std::vector<float> amplitude0_;  ///< per train, deep-water A0
   float height_bound_ = 0.0f;
 };

@@ -1,0 +1,197 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "houle/kernel/isa.hpp"
+#include "houle/kernel/train_grid.hpp"
+#include "ulp.hpp"
+
+namespace {
+
+/// A train's arrays and the grid that points into them.
+struct Train {
+  std::vector<float> phi, amplitude, kx, ky, fold, lean;
+  houle::TrainGrid grid;
+
+  void bind() {
+    grid.phi = phi.data();
+    grid.amplitude = amplitude.data();
+    grid.kx = kx.data();
+    grid.ky = ky.data();
+    grid.fold = fold.data();
+    grid.lean = lean.data();
+  }
+};
+
+/// Straight crests of wavenumber k along `angle`, amplitude a, fold q and lean l on an nx x ny grid;
+/// the far field is the same wave, so the surface is one train everywhere.
+Train uniform_train(double k, double angle, float a, float q, float l, std::uint32_t nx, std::uint32_t ny, float cell) {
+  Train t;
+  houle::TrainGrid& g = t.grid;
+  g.origin_x = -0.5f * cell * float(nx - 1);
+  g.origin_y = -0.5f * cell * float(ny - 1);
+  g.cell = cell;
+  g.nx = nx;
+  g.ny = ny;
+  g.far_kx = float(k * std::cos(angle));
+  g.far_ky = float(k * std::sin(angle));
+  g.far_amplitude = a;
+  g.far_fold = q;
+  g.far_lean = l;
+  g.far_offset = 0.75;
+  for (std::uint32_t j = 0; j < ny; ++j) {
+    for (std::uint32_t i = 0; i < nx; ++i) {
+      const double x = g.origin_x + double(i) * cell, y = g.origin_y + double(j) * cell;
+      t.phi.push_back(float(g.far_kx * x + g.far_ky * y - g.far_offset));
+      t.amplitude.push_back(a);
+      t.kx.push_back(g.far_kx);
+      t.ky.push_back(g.far_ky);
+      t.fold.push_back(q);
+      t.lean.push_back(l);
+    }
+  }
+  t.bind();
+  return t;
+}
+
+/// Independent random fields per node (fold and lean inside the fold-free disc).
+Train random_train(std::mt19937& rng) {
+  std::uniform_int_distribution<std::uint32_t> size(2, 40);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  Train t;
+  houle::TrainGrid& g = t.grid;
+  g.nx = size(rng);
+  g.ny = size(rng);
+  g.cell = 0.2f + 2.0f * u(rng);
+  g.origin_x = -20.0f * u(rng);
+  g.origin_y = -20.0f * u(rng);
+  g.far_kx = 0.1f + u(rng);
+  g.far_ky = u(rng) - 0.5f;
+  g.far_amplitude = u(rng);
+  g.far_fold = 0.5f * u(rng);
+  g.far_lean = 0.3f * u(rng);
+  g.far_offset = 100.0 * u(rng);
+  for (std::size_t n = 0; n < std::size_t(g.nx) * g.ny; ++n) {
+    t.phi.push_back(200.0f * u(rng) - 100.0f);
+    t.amplitude.push_back(u(rng));
+    t.kx.push_back(2.0f * u(rng) - 1.0f);
+    t.ky.push_back(2.0f * u(rng) - 1.0f);
+    const float r = 0.9f * u(rng), a = 6.2831853f * u(rng);
+    t.fold.push_back(r * std::cos(a));
+    t.lean.push_back(r * std::sin(a));
+  }
+  t.bind();
+  return t;
+}
+
+struct Outputs {
+  std::vector<float> h, gx, gy;
+  explicit Outputs(std::size_t n) : h(n), gx(n), gy(n) {}
+  houle::GerstnerOutput view() { return {h.data(), gx.data(), gy.data()}; }
+};
+
+houle::TrainGridFrame frame_of(const std::vector<houle::TrainGrid>& grids, double t) {
+  houle::TrainGridFrame f;
+  f.count = std::uint32_t(grids.size());
+  f.trains = grids.data();
+  std::vector<double> tau;
+  for (std::size_t i = 0; i < grids.size(); ++i) tau.push_back(1.3 * double(i + 1) * t - 0.2);
+  houle::set_train_grid_time(f, tau.data());
+  return f;
+}
+
+// The kernel uses only +, -, *, selects, exact conversions and gathers (the one division is a
+// scalar's): every ISA must give the scalar bits, tolerance 0.
+TEST(TrainGrid, EveryIsaMatchesScalarIncludingTails) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> coord(-30.0f, 60.0f);  // inside and outside the grids
+  const std::vector<std::size_t> sizes = {0, 1, 2, 3, 7, 8, 9, 15, 16, 17, 8 * 5 + 3, 8 * 37 + 3, 16 * 20 + 3, 1000};
+  for (houle::Isa isa : houle::supported_isas()) {
+    if (isa == houle::Isa::scalar) continue;
+    std::int64_t worst = 0;
+    for (int trial = 0; trial < 12; ++trial) {
+      std::vector<Train> trains;
+      for (int i = 0; i < 1 + trial % 4; ++i) trains.push_back(random_train(rng));
+      std::vector<houle::TrainGrid> grids;
+      float height_scale = 0.0f, slope_scale = 0.0f;
+      for (const Train& t : trains) {
+        grids.push_back(t.grid);
+        height_scale += 1.0f;
+        slope_scale += 2.0f * 1.5f;  // |A| <= 1, |1 + Q sin - L cos| <= 1.9, |k| <= sqrt 2
+      }
+      const houle::TrainGridFrame frame = frame_of(grids, 0.37 * trial);
+      for (std::size_t n : sizes) {
+        std::vector<float> x(n), y(n);
+        for (std::size_t i = 0; i < n; ++i) x[i] = coord(rng), y[i] = coord(rng);
+        Outputs ref(n), got(n);
+        houle::train_grid_eval(houle::Isa::scalar, frame, x.data(), y.data(), n, ref.view());
+        houle::train_grid_eval(isa, frame, x.data(), y.data(), n, got.view());
+        for (std::size_t i = 0; i < n; ++i) {
+          worst = std::max({worst, houle::test::ulps_of_scale(ref.h[i], got.h[i], height_scale),
+                            houle::test::ulps_of_scale(ref.gx[i], got.gx[i], slope_scale),
+                            houle::test::ulps_of_scale(ref.gy[i], got.gy[i], slope_scale)});
+        }
+      }
+    }
+    EXPECT_EQ(worst, 0) << "ISA " << houle::isa_name(isa);
+    std::printf("train_grid %s vs scalar: max %lld ulp (tolerance 0)\n", houle::isa_name(isa).data(),
+                static_cast<long long>(worst));
+  }
+}
+
+// A grid holding one straight-crested train is that train: the closed form in double, on the grid
+// and off it (the far field), and the gradient is the derivative of the height.
+TEST(TrainGrid, UniformGridIsTheClosedFormTrochoid) {
+  const double k = 0.35, angle = 0.6, t = 4.2;
+  const float a = 0.8f, q = 0.5f, l = 0.3f;
+  const Train train = uniform_train(k, angle, a, q, l, 31, 23, 1.25f);
+  const std::vector<houle::TrainGrid> grids = {train.grid};
+  const houle::TrainGridFrame frame = frame_of(grids, t);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> coord(-40.0f, 40.0f);
+  double worst_h = 0.0, worst_g = 0.0;
+  for (int i = 0; i < 4000; ++i) {
+    const float x = coord(rng), y = coord(rng), e = 1e-2f;
+    const float xs[5] = {x, x + e, x - e, x, x}, ys[5] = {y, y, y, y + e, y - e};
+    Outputs o(5);
+    houle::train_grid_eval(frame, xs, ys, 5, o.view());
+    const double theta = k * (std::cos(angle) * x + std::sin(angle) * y) - 0.75 - (1.3 * t - 0.2);
+    const double h = a * std::sin(theta - q * std::cos(theta) - l * std::sin(theta));
+    worst_h = std::max(worst_h, std::fabs(o.h[0] - h));
+    worst_g = std::max({worst_g, double(std::fabs((o.h[1] - o.h[2]) / (2 * e) - o.gx[0])),
+                        double(std::fabs((o.h[3] - o.h[4]) / (2 * e) - o.gy[0]))});
+  }
+  std::printf("uniform train: max |h - closed form| %.3g m, max |grad - central difference| %.3g\n", worst_h, worst_g);
+  EXPECT_LT(worst_h, 2e-5);  // float phases of ~15 rad: a few 1e-6 rad
+  EXPECT_LT(worst_g, 2e-3);  // central difference error ~ e^2 k^3 A + float rounding / e
+}
+
+// The lean steepens the front face (the side the wave travels towards) and eases the back; no lean
+// gives a symmetric profile.
+TEST(TrainGrid, LeanSteepensTheFrontFace) {
+  const double k = 0.5;
+  auto steepest = [&](float lean) {
+    const Train train = uniform_train(k, 0.0, 1.0f, 0.5f, lean, 2, 2, 1.0f);  // evaluated off the grid
+    const std::vector<houle::TrainGrid> grids = {train.grid};
+    const houle::TrainGridFrame frame = frame_of(grids, 0.0);
+    float front = 0.0f, back = 0.0f;  // steepest descent (front) and ascent (back) along +x
+    for (int i = 0; i < 4000; ++i) {
+      const float x = 30.0f + float(i) * 0.01f, y = 0.0f;
+      float h, gx, gy;
+      houle::train_grid_eval(frame, &x, &y, 1, {&h, &gx, &gy});
+      front = std::min(front, gx);
+      back = std::max(back, gx);
+    }
+    return std::pair{-front, back};
+  };
+  const auto [front0, back0] = steepest(0.0f);
+  const auto [front1, back1] = steepest(0.4f);
+  std::printf("max slope front/back: no lean %.4f/%.4f, lean 0.4 %.4f/%.4f\n", front0, back0, front1, back1);
+  EXPECT_NEAR(front0, back0, 1e-3 * back0);
+  EXPECT_GT(front1, 1.2f * back1);
+}
+
+}  // namespace
