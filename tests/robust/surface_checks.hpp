@@ -30,14 +30,13 @@ struct SurfaceSweep {
 /// end (lee of a wall, the edge of their coverage, a cap) the phase of the uncovered node is the far
 /// field's, many radians from the rays', and the surface oscillates within that one cell.
 inline bool in_covered_cell(const SeaSurface& s, float x, float y) {
-  for (const TrainField& f : s.trains()) {
-    if (f.nx == 0) continue;
-    const float gx = (x - f.origin_x) / f.cell, gy = (y - f.origin_y) / f.cell;
-    if (!(gx >= 0.0f && gy >= 0.0f && gx < float(f.nx - 1) && gy < float(f.ny - 1))) return false;
-    const std::size_t n = std::size_t(gy) * f.nx + std::size_t(gx);
-    if (!(f.amplitude[n] > 0.0f && f.amplitude[n + 1] > 0.0f && f.amplitude[n + f.nx] > 0.0f && f.amplitude[n + f.nx + 1] > 0.0f)) {
-      return false;
-    }
+  for (const TrainGrid& g : s.grids()) {
+    if (g.nx == 0) continue;
+    const float gx = (x - g.origin_x) / g.cell, gy = (y - g.origin_y) / g.cell;
+    if (!(gx >= 0.0f && gy >= 0.0f && gx < float(g.nx - 1) && gy < float(g.ny - 1))) return false;
+    const std::size_t n = std::size_t(gy) * g.nx + std::size_t(gx);
+    const float* a = g.amplitude;
+    if (!(a[n] > 0.0f && a[n + 1] > 0.0f && a[n + g.nx] > 0.0f && a[n + g.nx + 1] > 0.0f)) return false;
   }
   return true;
 }

@@ -115,9 +115,9 @@ TEST(RandomScenes, FiniteBoundedAndNoEnergyCreated) {
     worst.crossed += aw.crossed;
     for (const houle::WaveRays& t : field->trains) traced += t.analytic ? 0 : 1;
 
-    const houle::Expected<houle::SeaSurface> sea = houle::SeaSurface::build(scene, field.value(), 0.5f);
+    houle::Expected<houle::SeaSurface> sea = houle::SeaSurface::build(scene, field.value(), 0.5f);
     ASSERT_TRUE(sea) << "scene " << i;
-    houle::SeaSurface s = sea.value();
+    houle::SeaSurface s = std::move(sea.value());
     houle::Scene no_reflection = scene;
     no_reflection.dwt.reflection = false;
     const houle::Expected<houle::WaveField> plain_field = houle::trace_wave_field(no_reflection, 2);
