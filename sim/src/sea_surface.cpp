@@ -127,6 +127,7 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
     const WaveRays& rays = reflection ? field.reflections[t - field.trains.size()].rays : field.trains[t];
     TrainField& f = s.trains_[t];
     TrainGrid& g = s.grids_[t];
+    s.amplitude0_.push_back(float(scene.trains[train].amplitude));
     f.omega = rays.omega;
     f.phase = scene.trains[train].phase;
     // Entry depth: where the train's rays come in, the domain's upstream edge centre.
@@ -158,7 +159,6 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
   }
   s.frame_.count = std::uint32_t(s.grids_.size());
   s.frame_.trains = s.grids_.data();
-  for (const WaveTrain& t : scene.trains) s.amplitude0_.push_back(float(t.amplitude));
   s.set_time(0.0);
   return s;
 }

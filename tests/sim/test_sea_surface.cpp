@@ -133,6 +133,12 @@ TEST(SeaSurface, ProbeReportsTheDiffractionCoefficient) {
   EXPECT_EQ(s.probe(0, -10.0f, -10.0f).diffraction, 1.0f);
   const houle::SeaSurface deep = build(deep_sea());
   EXPECT_EQ(deep.probe(0, 50.0f, 50.0f).diffraction, 1.0f);
+  // The rigid wall reflects: its reflected wave is a field after the train's, relative to the same A0.
+  ASSERT_GT(s.trains().size(), scene.trains.size());
+  for (std::size_t f = 0; f < s.trains().size(); ++f) {
+    const houle::TrainProbe p = s.probe(f, 30.0f, 40.0f);
+    EXPECT_TRUE(std::isfinite(p.relative_amplitude) && p.relative_amplitude >= 0.0f && p.relative_amplitude < 3.0f) << f;
+  }
 }
 
 // Fournier-Reeves depth effects on a planar beach: the orbit's horizontal excursion (fold) and the

@@ -61,7 +61,7 @@ class SeaSurface {
   static void sample(void* context, const float* x, const float* y, std::size_t n, float* height, float* grad_x,
                      float* grad_y) noexcept;
 
-  /// Train `train` at (x, y) at the time set last.
+  /// Field `train` of trains() (a scene train or a reflected wave) at (x, y) at the time set last.
   TrainProbe probe(std::size_t train, float x, float y) const noexcept;
 
   /// The scene's trains in order, then one field per reflected wave (WaveField::reflections).
@@ -80,7 +80,7 @@ class SeaSurface {
   std::vector<TrainField> trains_;
   std::vector<TrainGrid> grids_;  ///< per train, pointing into trains_' arrays
   TrainGridFrame frame_{};
-  std::vector<float> amplitude0_;  ///< per train, deep-water A0
+  std::vector<float> amplitude0_;  ///< per field of trains_, the deep-water A0 of its train
   float height_bound_ = 0.0f;
 };
 
