@@ -373,9 +373,8 @@ PRESET_NOTES = (
     "8 is the paper's Plate 3 setting) and 8 surface levels against 7 (no change at 320x180, a small one at "
     "1280x720: `houle_accuracy --only surface.levels --size 1280x720`). "
     "`draft` trades the surface grid (128 cells, 0.5 m, 7 levels, sea_cell 1 m) and RGB absorption for "
-    "speed: each of those is a front point left of realtime's. The largest costs at `realtime` are the "
-    "retessellation (scalar today) and the marcher and shader: those are the stages the work in progress "
-    "on sea_surface.cpp and the renderer targets, so the presets' times will move; rerun scripts/accuracy."
+    "speed: each of those is a front point left of realtime's. The stages that cost most at `realtime` "
+    "are listed above the table; when they get faster the presets' times move: rerun scripts/accuracy."
 )
 
 if __name__ == "__main__":
