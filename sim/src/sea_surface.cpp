@@ -14,12 +14,13 @@ namespace {
 constexpr double two_pi = 2.0 * std::numbers::pi;
 // sqrt(Q^2 + L^2) stays below this so that the first-order trochoid never folds (physics.md 3.1: J > 0).
 constexpr double max_fold = 0.9;
-// Depth used for the shape where the floor is at or above still water (the wave is gone there anyway).
-constexpr double min_shape_depth = 1e-3;
+// Depth used where the floor is at or above still water (the wave is gone there anyway): keeps the
+// dispersion relation and coth(kh) finite.
+constexpr double min_depth = 1e-3;
 
 /// Fold and lean of a train of steepness q, wavenumber k and amplitude a over depth h (sea_surface.hpp).
 void shape(double q, double k, double a, double h, float& fold, float& lean) {
-  const double kh = k * std::max(h, min_shape_depth);
+  const double kh = k * std::max(h, min_depth);
   double f = q * k * a / std::tanh(kh), l = f * std::exp(-kh);
   const double norm = std::hypot(f, l);
   if (norm > max_fold) {
@@ -42,7 +43,7 @@ void set_far_field(TrainGrid& g, const Scene& scene, const WaveRays& rays, doubl
     k = rays.analytic_k;
     a = rays.analytic_amplitude;
   } else {
-    h = std::max(depth_at_entry, 1e-3);
+    h = std::max(depth_at_entry, min_depth);
     k = linear_wave(rays.omega, h).k;
     a = rays.amplitude0 * shoaling_coefficient(k * h);
   }

@@ -28,6 +28,16 @@ houle::Scene deep_sea() {
   return s;
 }
 
+// deep_sea()'s train on a 1:20 beach: 12 m deep offshore, the shoreline at y = 150 m.
+houle::Scene beach() {
+  houle::Scene s = deep_sea();
+  s.floor.base.kind = houle::FloorKind::planar_beach;
+  s.floor.base.depth = 12.0;
+  s.floor.base.slope = 0.05;
+  s.floor.base.shoreline = {0.0, 150.0};
+  return s;
+}
+
 houle::SeaSurface build(const houle::Scene& scene) {
   auto field = houle::trace_wave_field(scene);
   EXPECT_TRUE(field.ok());
@@ -74,11 +84,7 @@ TEST(SeaSurface, DeepFlatSeaIsTheAnalyticTrochoid) {
 }
 
 TEST(SeaSurface, TracedBeachIsContinuousAndBounded) {
-  houle::Scene scene = deep_sea();
-  scene.floor.base.kind = houle::FloorKind::planar_beach;
-  scene.floor.base.depth = 12.0;
-  scene.floor.base.slope = 0.05;
-  scene.floor.base.shoreline = {0.0, 150.0};
+  houle::Scene scene = beach();
   scene.trains[0].direction_deg = 80.0;
   scene.dwt.step = 0.5;
   scene.dwt.insertion_distance = 1.5;
@@ -144,11 +150,7 @@ TEST(SeaSurface, ProbeReportsTheDiffractionCoefficient) {
 // Fournier-Reeves depth effects on a planar beach: the orbit's horizontal excursion (fold) and the
 // crest's lean grow as the water shoals, and never pass the fold-free limit sqrt(Q^2 + L^2) <= 0.9.
 TEST(SeaSurface, ShoalingFlattensOrbitsAndLeansCrestsWithoutFolding) {
-  houle::Scene scene = deep_sea();
-  scene.floor.base.kind = houle::FloorKind::planar_beach;
-  scene.floor.base.depth = 12.0;
-  scene.floor.base.slope = 0.05;
-  scene.floor.base.shoreline = {0.0, 150.0};
+  houle::Scene scene = beach();
   scene.trains[0].direction_deg = 90.0;
   scene.trains[0].steepness = 1.0;
   houle::SeaSurface s = build(scene);
