@@ -22,6 +22,7 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 constexpr double two_pi = 2.0 * std::numbers::pi;
+constexpr double inf = std::numeric_limits<double>::infinity();
 constexpr double fan_spacing = pi / 8.0;   // rad between a fan's first rays (refined by insertion)
 constexpr int max_insertion_passes = 16;   // per step; each pass halves the widest tube
 
@@ -212,12 +213,31 @@ struct SampleStore {
   // a_break and, at knots, the exact K' in k_exact (NaN elsewhere); K' is applied after the sweep.
   std::vector<double> a_break, k_exact;
   std::vector<std::int32_t> ray;
+
   void reserve(std::size_t n) {
-    for (auto* v : {&x, &y, &theta, &k, &amplitude, &phase, &time, &a_break, &k_exact}) v->reserve(n);
-    flags.reserve(n);
-    ray.reserve(n);
+    for_each([n](auto& v) { v.reserve(n); });
   }
-  std::size_t size() const noexcept { return x.size(); }
+  // A new sample's index. The arrays grow a block at a time (within the reserve), so that a sample
+  // is written with plain stores.
+  std::size_t append() {
+    if (n_ == x.size()) for_each([m = n_ + block](auto& v) { v.resize(m); });
+    return n_++;
+  }
+  // Drops the unused end of the last block.
+  void trim() {
+    for_each([this](auto& v) { v.resize(n_); });
+  }
+  std::size_t size() const noexcept { return n_; }
+
+ private:
+  static constexpr std::size_t block = 2048;
+  template <class F>
+  void for_each(F&& f) {
+    for (auto* v : {&x, &y, &theta, &k, &amplitude, &phase, &time, &a_break, &k_exact}) f(*v);
+    f(flags);
+    f(ray);
+  }
+  std::size_t n_ = 0;
 };
 
 enum class Stop : std::uint8_t { none, wall, domain, shore };
@@ -281,6 +301,12 @@ class TrainTracer {
     h_min_ = std::max(set_.min_depth, set_.min_depth_wavelengths * l0);
     medium_ = make_medium(scene_, floor_, omega, h_min_);
     capsules_ = wall_capsules(scene_.walls);
+    for (const Capsule& c : capsules_) {
+      walls_box_.x_min = std::min(walls_box_.x_min, std::min(c.ax, c.bx) - c.radius);
+      walls_box_.x_max = std::max(walls_box_.x_max, std::max(c.ax, c.bx) + c.radius);
+      walls_box_.y_min = std::min(walls_box_.y_min, std::min(c.ay, c.by) - c.radius);
+      walls_box_.y_max = std::max(walls_box_.y_max, std::max(c.ay, c.by) + c.radius);
+    }
     path_max_ = path_limit(scene_.domain);
   }
 
@@ -405,18 +431,19 @@ class TrainTracer {
       truncated_ = true;
       return;
     }
-    samples_.x.push_back(st.x);
-    samples_.y.push_back(st.y);
-    samples_.theta.push_back(st.theta);
-    samples_.k.push_back(w.k);
-    samples_.amplitude.push_back(0.0);
-    samples_.phase.push_back(st.phi);
-    samples_.time.push_back(st.tau);
-    samples_.flags.push_back(flags);
-    samples_.a_break.push_back(0.0);
-    samples_.k_exact.push_back(std::numeric_limits<double>::quiet_NaN());
-    samples_.ray.push_back(id);
-    rays_[std::size_t(id)].last_sample = std::uint32_t(samples_.size() - 1);
+    const std::size_t s = samples_.append();
+    samples_.x[s] = st.x;
+    samples_.y[s] = st.y;
+    samples_.theta[s] = st.theta;
+    samples_.k[s] = w.k;
+    samples_.amplitude[s] = 0.0;
+    samples_.phase[s] = st.phi;
+    samples_.time[s] = st.tau;
+    samples_.flags[s] = flags;
+    samples_.a_break[s] = 0.0;
+    samples_.k_exact[s] = std::numeric_limits<double>::quiet_NaN();
+    samples_.ray[s] = id;
+    rays_[std::size_t(id)].last_sample = std::uint32_t(s);
     ++stats_.samples;
   }
 
@@ -515,7 +542,10 @@ class TrainTracer {
   double chord_event(const RayState& a, const RayState& b, double depth_b, Stop& why, std::uint32_t& wall) const noexcept {
     double u = 2.0;
     why = Stop::none;
-    if (!capsules_.empty()) {
+    // Most chords are nowhere near a wall: one box test instead of one per capsule.
+    const bool near_walls = std::max(a.x, b.x) >= walls_box_.x_min && std::min(a.x, b.x) <= walls_box_.x_max &&
+                            std::max(a.y, b.y) >= walls_box_.y_min && std::min(a.y, b.y) <= walls_box_.y_max;
+    if (near_walls) {
       const WallHit hit = first_wall_hit(capsules_, a.x, a.y, b.x, b.y);
       if (hit.hit) u = hit.u, why = Stop::wall, wall = hit.wall;
     }
@@ -672,6 +702,7 @@ class TrainTracer {
     pair_sigma_.assign(n, std::numeric_limits<double>::quiet_NaN());
     pair_width_.assign(n, 0.0);
     pair_real_.assign(n, 0);
+    widest_real_ = 0.0;
     Pose pa{}, pb{};
     bool has_a = n > 0 && pose_on_step(rays_[std::size_t(order_[0])], phi_j, pa);
     for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -682,6 +713,7 @@ class TrainTracer {
         pair_sigma_[i] = spacing(pa, pb);
         pair_width_[i] = tube_width(a.family, pa, pb, pair_sigma_[i]);
         pair_real_[i] = live_on_step(a) && live_on_step(b);
+        if (pair_real_[i]) widest_real_ = std::max(widest_real_, pair_sigma_[i]);
       }
       pa = pb;
       has_a = has_b;
@@ -690,10 +722,7 @@ class TrainTracer {
 
   void update_amplitudes() {
     const std::size_t n = order_.size();
-    pair_ok_.assign(n, 0);
-    pair_b_prev_.assign(n, 0.0);
-    pair_b_now_.assign(n, 0.0);
-    pair_crossed_.assign(n, 0);
+    pair_tubes_.assign(n, PairTube{});
     for (std::size_t i = 0; i + 1 < n; ++i) {
       const double sigma = pair_sigma_[i];
       if (std::isnan(sigma)) continue;
@@ -712,15 +741,13 @@ class TrainTracer {
       }
       if (crossed) {
         a.crossed_with = order_[i + 1];
-        pair_crossed_[i] = 1;
+        pair_tubes_[i].crossed = true;
         continue;
       }
       if (!persisted || a.family != b.family || a.fresh || b.fresh) continue;
       const double width = pair_width_[i];
       if (!(a.tube_b > 0.0) || !(width > 0.0)) continue;
-      pair_ok_[i] = 1;
-      pair_b_prev_[i] = a.tube_b;
-      pair_b_now_[i] = width;
+      pair_tubes_[i] = PairTube{a.tube_b, width, true, false};
     }
     for (std::size_t i = 0; i < n; ++i) {
       const std::int32_t id = order_[i];
@@ -729,13 +756,11 @@ class TrainTracer {
       double w_prev = 0.0, w_now = 0.0;
       int tubes = 0;
       bool crossed = false;
-      if (i > 0) {
-        if (pair_ok_[i - 1]) w_prev += pair_b_prev_[i - 1], w_now += pair_b_now_[i - 1], ++tubes;
-        crossed = crossed || pair_crossed_[i - 1];
-      }
-      if (i + 1 < n) {
-        if (pair_ok_[i]) w_prev += pair_b_prev_[i], w_now += pair_b_now_[i], ++tubes;
-        crossed = crossed || pair_crossed_[i];
+      for (std::size_t p : {i - 1, i}) {
+        if (p >= n - 1) continue;  // i = 0 has no left pair (p wraps), i = n - 1 no right one
+        const PairTube& t = pair_tubes_[p];
+        if (t.sound) w_prev += t.b_prev, w_now += t.b_now, ++tubes;
+        crossed = crossed || t.crossed;
       }
       // Energy flux A^2 Cg b is constant along the tube (physics.md 2.3).
       const double ratio = tubes > 0 ? w_prev / w_now : 1.0;
@@ -936,6 +961,7 @@ class TrainTracer {
   // One pass over the wavefront: a ray between every sound live pair farther apart than b_max.
   bool insert_rays(std::int32_t j) {
     const double b_max = set_.insertion_distance;
+    if (!(widest_real_ > b_max)) return false;
     for (std::size_t i = 0; i + 1 < order_.size(); ++i) {
       if (!pair_real_[i] || !(pair_sigma_[i] > b_max)) continue;  // not two live rays, or close enough
       const std::int32_t ia = order_[i], ib = order_[i + 1];
@@ -1032,6 +1058,7 @@ class TrainTracer {
   // ---- output ----
 
   WaveRays finish(WaveRays& out, DwtStats& stats) {
+    samples_.trim();
     const std::size_t nr = order_.size();
     std::vector<std::int32_t> rank(rays_.size(), -1);
     for (std::size_t i = 0; i < nr; ++i) rank[std::size_t(order_[i])] = std::int32_t(i);
@@ -1039,20 +1066,22 @@ class TrainTracer {
     for (std::size_t s = 0; s < samples_.size(); ++s) ++out.sample_begin[std::size_t(rank[std::size_t(samples_.ray[s])]) + 1];
     for (std::size_t i = 0; i < nr; ++i) out.sample_begin[i + 1] += out.sample_begin[i];
     // Samples into ray order: each array is scattered through one reused buffer and swapped with it,
-    // so only one array's worth of memory is newly touched, then the arrays move into the output.
+    // so only one array's worth of memory is newly touched, then the arrays move into the output. The
+    // ray indices become the destinations in place. a_break and k_exact serve only K' (fans).
     const std::size_t ns = samples_.size();
     {
-      std::vector<std::uint32_t> dest(ns);
-      std::vector<std::uint32_t> cursor(out.sample_begin.begin(), out.sample_begin.end() - 1);
-      for (std::size_t s = 0; s < ns; ++s) dest[s] = cursor[std::size_t(rank[std::size_t(samples_.ray[s])])]++;
       SampleStore& m = samples_;
+      std::vector<std::int32_t>& dest = m.ray;
+      std::vector<std::uint32_t> cursor(out.sample_begin.begin(), out.sample_begin.end() - 1);
+      for (std::size_t s = 0; s < ns; ++s) dest[s] = std::int32_t(cursor[std::size_t(rank[std::size_t(dest[s])])]++);
       std::vector<double> tmp(ns);
       for (auto* v : {&m.x, &m.y, &m.theta, &m.k, &m.amplitude, &m.phase, &m.time, &m.a_break, &m.k_exact}) {
-        for (std::size_t i = 0; i < ns; ++i) tmp[dest[i]] = (*v)[i];
+        if (fans_.empty() && (v == &m.a_break || v == &m.k_exact)) continue;
+        for (std::size_t i = 0; i < ns; ++i) tmp[std::size_t(dest[i])] = (*v)[i];
         v->swap(tmp);
       }
       std::vector<std::uint8_t> tmp8(ns);
-      for (std::size_t i = 0; i < ns; ++i) tmp8[dest[i]] = m.flags[i];
+      for (std::size_t i = 0; i < ns; ++i) tmp8[std::size_t(dest[i])] = m.flags[i];
       m.flags.swap(tmp8);
     }
     out.x = std::move(samples_.x);
@@ -1152,6 +1181,7 @@ class TrainTracer {
   Medium medium_{};
   Front front_{};
   std::vector<Capsule> capsules_;
+  Domain walls_box_{inf, inf, -inf, -inf};  // holds every capsule (empty without walls)
   std::vector<PierheadSite> sites_;
   std::vector<bool> site_used_;
   std::size_t sites_left_ = 0;  // sites that have not spawned their fan yet
@@ -1163,8 +1193,13 @@ class TrainTracer {
   std::int32_t step_ = 0;  // the wavefront being processed
   std::vector<double> pair_sigma_, pair_width_;
   std::vector<std::uint8_t> pair_real_;
-  std::vector<std::uint8_t> pair_ok_, pair_crossed_;
-  std::vector<double> pair_b_prev_, pair_b_now_;
+  double widest_real_ = 0.0;  // the largest pair_sigma_ of a real pair
+  // A neighbour pair's tube over the last step: widths then and now where it persisted soundly.
+  struct PairTube {
+    double b_prev = 0.0, b_now = 0.0;
+    bool sound = false, crossed = false;
+  };
+  std::vector<PairTube> pair_tubes_;
   SampleStore samples_;
   DwtStats stats_{};
   std::int64_t first_step_ = 0;
