@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <span>
 #include <string>
 
 #include "cli.hpp"
@@ -39,12 +40,16 @@ template <class T>
 std::size_t bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
 }
+template <class T>
+std::size_t bytes(std::span<const T> v) {
+  return v.size_bytes();
+}
 
 // Heap bytes held by one train's rays.
 std::size_t ray_bytes(const WaveRays& w) {
   return bytes(w.sample_begin) + bytes(w.first_step) + bytes(w.flags) + bytes(w.parent_a) + bytes(w.parent_b) +
          bytes(w.pierhead) + bytes(w.x) + bytes(w.y) + bytes(w.theta) + bytes(w.k) + bytes(w.amplitude) + bytes(w.phase) +
-         bytes(w.time) + bytes(w.sample_flags) + bytes(w.pierheads);
+         bytes(w.time) + bytes(w.sample_flags) + bytes(w.diffraction) + bytes(w.pierheads);
 }
 
 std::size_t diffracted_rays(const WaveRays& w) {

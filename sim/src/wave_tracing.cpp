@@ -1,13 +1,16 @@
 // Dynamic Wave Tracing: the wavefront sweep (see wave_rays.hpp for the method and its choices).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <utility>
 
+#include "houle/kernel/bulk_memory.hpp"
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
@@ -205,39 +208,52 @@ struct Fan {
   double d0x = 0.0, d0y = 0.0;      // world unit vector at angle theta0 in the frame (towards the waves' origin)
 };
 
-// Samples in the order they are produced; sorted per ray at the end.
-struct SampleStore {
-  std::vector<double> x, y, theta, k, amplitude, phase, time;
-  std::vector<std::uint8_t> flags;
+// Samples in the order they are produced, in one block grown by doubling (bulk_memory.hpp: the
+// block is written once, first touches dominate); gathered per ray into the output at the end.
+class SampleStore {
+ public:
+  double *x = nullptr, *y = nullptr, *theta = nullptr, *k = nullptr, *amplitude = nullptr, *phase = nullptr,
+         *time = nullptr;
   // Samples with a diffraction coefficient hold a_geo in `amplitude`, their breaking limit in
   // a_break and, at knots, the exact K' in k_exact (NaN elsewhere); K' is applied after the sweep.
-  std::vector<double> a_break, k_exact;
-  std::vector<std::int32_t> ray;
+  double *a_break = nullptr, *k_exact = nullptr;
+  std::uint8_t* flags = nullptr;
+  std::int32_t* ray = nullptr;
+  std::uint32_t* order = nullptr;  // finish(): output position -> sample
 
-  void reserve(std::size_t n) {
-    for_each([n](auto& v) { v.reserve(n); });
+  void reserve(std::size_t capacity) {
+    if (capacity > capacity_) regrow(capacity);
   }
-  // A new sample's index. The arrays grow a block at a time (within the reserve), so that a sample
-  // is written with plain stores.
   std::size_t append() {
-    if (n_ == x.size()) for_each([m = n_ + block](auto& v) { v.resize(m); });
+    if (n_ == capacity_) regrow(std::max<std::size_t>(2 * capacity_, 1024));
     return n_++;
-  }
-  // Drops the unused end of the last block.
-  void trim() {
-    for_each([this](auto& v) { v.resize(n_); });
   }
   std::size_t size() const noexcept { return n_; }
 
  private:
-  static constexpr std::size_t block = 2048;
-  template <class F>
-  void for_each(F&& f) {
-    for (auto* v : {&x, &y, &theta, &k, &amplitude, &phase, &time, &a_break, &k_exact}) f(*v);
-    f(flags);
-    f(ray);
+  void regrow(std::size_t capacity) {
+    BulkLayout layout;
+    double** doubles[] = {&x, &y, &theta, &k, &amplitude, &phase, &time, &a_break, &k_exact};
+    std::size_t at[std::size(doubles)];
+    for (std::size_t i = 0; i < std::size(doubles); ++i) at[i] = layout.add<double>(capacity);
+    const std::size_t at_flags = layout.add<std::uint8_t>(capacity), at_ray = layout.add<std::int32_t>(capacity),
+                      at_order = layout.add<std::uint32_t>(capacity);
+    std::shared_ptr<std::byte[]> block = layout.allocate();
+    auto move = [&](auto*& array, std::size_t offset) {
+      using T = std::remove_reference_t<decltype(*array)>;
+      T* to = BulkLayout::at<T>(block.get(), offset);
+      if (n_ > 0) std::memcpy(to, array, n_ * sizeof(T));
+      array = to;
+    };
+    for (std::size_t i = 0; i < std::size(doubles); ++i) move(*doubles[i], at[i]);
+    move(flags, at_flags);
+    move(ray, at_ray);
+    move(order, at_order);
+    block_ = std::move(block);
+    capacity_ = capacity;
   }
-  std::size_t n_ = 0;
+  std::shared_ptr<std::byte[]> block_;
+  std::size_t n_ = 0, capacity_ = 0;
 };
 
 enum class Stop : std::uint8_t { none, wall, domain, shore };
@@ -1058,42 +1074,51 @@ class TrainTracer {
   // ---- output ----
 
   WaveRays finish(WaveRays& out, DwtStats& stats) {
-    samples_.trim();
     const std::size_t nr = order_.size();
     std::vector<std::int32_t> rank(rays_.size(), -1);
     for (std::size_t i = 0; i < nr; ++i) rank[std::size_t(order_[i])] = std::int32_t(i);
     out.sample_begin.assign(nr + 1, 0);
-    for (std::size_t s = 0; s < samples_.size(); ++s) ++out.sample_begin[std::size_t(rank[std::size_t(samples_.ray[s])]) + 1];
-    for (std::size_t i = 0; i < nr; ++i) out.sample_begin[i + 1] += out.sample_begin[i];
-    // Samples into ray order: each array is scattered through one reused buffer and swapped with it,
-    // so only one array's worth of memory is newly touched, then the arrays move into the output. The
-    // ray indices become the destinations in place. a_break and k_exact serve only K' (fans).
     const std::size_t ns = samples_.size();
+    for (std::size_t s = 0; s < ns; ++s) ++out.sample_begin[std::size_t(rank[std::size_t(samples_.ray[s])]) + 1];
+    for (std::size_t i = 0; i < nr; ++i) out.sample_begin[i + 1] += out.sample_begin[i];
+    // Samples into ray order: gathered, so the output block is written front to back once.
     {
-      SampleStore& m = samples_;
-      std::vector<std::int32_t>& dest = m.ray;
       std::vector<std::uint32_t> cursor(out.sample_begin.begin(), out.sample_begin.end() - 1);
-      for (std::size_t s = 0; s < ns; ++s) dest[s] = std::int32_t(cursor[std::size_t(rank[std::size_t(dest[s])])]++);
-      std::vector<double> tmp(ns);
-      for (auto* v : {&m.x, &m.y, &m.theta, &m.k, &m.amplitude, &m.phase, &m.time, &m.a_break, &m.k_exact}) {
-        if (fans_.empty() && (v == &m.a_break || v == &m.k_exact)) continue;
-        for (std::size_t i = 0; i < ns; ++i) tmp[std::size_t(dest[i])] = (*v)[i];
-        v->swap(tmp);
-      }
-      std::vector<std::uint8_t> tmp8(ns);
-      for (std::size_t i = 0; i < ns; ++i) tmp8[std::size_t(dest[i])] = m.flags[i];
-      m.flags.swap(tmp8);
+      for (std::size_t s = 0; s < ns; ++s) samples_.order[cursor[std::size_t(rank[std::size_t(samples_.ray[s])])]++] = std::uint32_t(s);
     }
-    out.x = std::move(samples_.x);
-    out.y = std::move(samples_.y);
-    out.theta = std::move(samples_.theta);
-    out.k = std::move(samples_.k);
-    out.amplitude = std::move(samples_.amplitude);
-    out.phase = std::move(samples_.phase);
-    out.time = std::move(samples_.time);
-    out.sample_flags = std::move(samples_.flags);
-    std::vector<double>& a_break = samples_.a_break;
-    std::vector<double>& k_exact = samples_.k_exact;
+    BulkLayout layout;
+    const double* staged[] = {samples_.x, samples_.y, samples_.theta, samples_.k, samples_.amplitude, samples_.phase, samples_.time};
+    std::size_t at[std::size(staged)];
+    for (std::size_t i = 0; i < std::size(staged); ++i) at[i] = layout.add<double>(ns);
+    const std::size_t at_flags = layout.add<std::uint8_t>(ns), at_k = layout.add<float>(fans_.empty() ? 0 : ns);
+    std::shared_ptr<std::byte[]> block = layout.allocate();
+    double* arrays[std::size(staged)];
+    const std::uint32_t* order = samples_.order;
+    for (std::size_t i = 0; i < std::size(staged); ++i) {
+      arrays[i] = BulkLayout::at<double>(block.get(), at[i]);
+      for (std::size_t t = 0; t < ns; ++t) arrays[i][t] = staged[i][order[t]];
+    }
+    auto* flags = BulkLayout::at<std::uint8_t>(block.get(), at_flags);
+    for (std::size_t t = 0; t < ns; ++t) flags[t] = samples_.flags[order[t]];
+    out.x = {arrays[0], ns};
+    out.y = {arrays[1], ns};
+    out.theta = {arrays[2], ns};
+    out.k = {arrays[3], ns};
+    out.amplitude = {arrays[4], ns};
+    out.phase = {arrays[5], ns};
+    out.time = {arrays[6], ns};
+    out.sample_flags = {flags, ns};
+    if (!fans_.empty()) {
+      float* coefficient = BulkLayout::at<float>(block.get(), at_k);
+      for (std::size_t i = 0; i < nr; ++i) {
+        apply_diffraction(out, arrays[4], rays_[std::size_t(order_[i])].family, out.sample_begin[i], out.sample_begin[i + 1]);
+      }
+      for (std::size_t t = 0; t < ns; ++t) {
+        coefficient[t] = (flags[t] & sample_flag::diffraction) ? float(samples_.k_exact[order[t]]) : 1.0f;
+      }
+      out.diffraction = {coefficient, ns};
+    }
+    out.sample_storage = std::move(block);
     out.first_step.resize(nr);
     out.flags.resize(nr);
     out.parent_a.resize(nr);
@@ -1106,13 +1131,6 @@ class TrainTracer {
       out.parent_a[i] = r.parent_a >= 0 ? rank[std::size_t(r.parent_a)] : -1;
       out.parent_b[i] = r.parent_b >= 0 ? rank[std::size_t(r.parent_b)] : -1;
       out.pierhead[i] = r.family;
-      apply_diffraction(out, a_break, k_exact, r.family, out.sample_begin[i], out.sample_begin[i + 1]);
-    }
-    if (!fans_.empty()) {
-      out.diffraction.assign(out.sample_count(), 1.0f);
-      for (std::size_t s = 0; s < out.sample_count(); ++s) {
-        if (out.sample_flags[s] & sample_flag::diffraction) out.diffraction[s] = float(k_exact[s]);
-      }
     }
     for (const Fan& f : fans_) {
       out.pierheads.push_back(WaveRays::Pierhead{f.site.x, f.site.y, f.ox, f.oy, f.site.wall, f.phi_m, f.a_m, f.wave_m.k});
@@ -1125,8 +1143,11 @@ class TrainTracer {
   // K' for one ray's samples that carry a diffraction coefficient (they hold a_geo): exact at the
   // knots the sweep left (and at both ends of each run of such samples), linear in path length in
   // between; then the breaking cap once more, so H <= gamma_b h holds whatever the interpolation did.
-  void apply_diffraction(WaveRays& out, const std::vector<double>& a_break, std::vector<double>& k_exact,
-                         std::int32_t family, std::size_t begin, std::size_t end) {
+  // `out` holds the samples in ray order (its amplitudes are `amplitude`); the staged a_break and
+  // k_exact are reached through samples_.order.
+  void apply_diffraction(const WaveRays& out, double* amplitude, std::int32_t family, std::size_t begin, std::size_t end) {
+    const std::uint32_t* order = samples_.order;
+    double* k_exact = samples_.k_exact;
     std::size_t i = begin;
     while (i < end) {
       if (!(out.sample_flags[i] & sample_flag::diffraction)) {
@@ -1136,24 +1157,28 @@ class TrainTracer {
       std::size_t run_end = i;
       while (run_end < end && (out.sample_flags[run_end] & sample_flag::diffraction)) ++run_end;
       for (std::size_t e : {i, run_end - 1}) {
-        if (std::isnan(k_exact[e])) k_exact[e] = k_factor(family, out.x[e], out.y[e], out.phase[e]);
+        double& K = k_exact[order[e]];
+        if (std::isnan(K)) K = k_factor(family, out.x[e], out.y[e], out.phase[e]);
       }
       std::size_t last = i;
       double path = 0.0, path_last = 0.0;
       for (std::size_t t = i + 1; t < run_end; ++t) {
         path += dist(out.x[t] - out.x[t - 1], out.y[t] - out.y[t - 1]);
-        if (std::isnan(k_exact[t])) continue;
+        if (std::isnan(k_exact[order[t]])) continue;
         // Knot t: interpolate the samples since the previous knot.
+        const double k_last = k_exact[order[last]], k_t = k_exact[order[t]];
         double p = path_last;
         for (std::size_t q = last + 1; q < t; ++q) {
           p += dist(out.x[q] - out.x[q - 1], out.y[q] - out.y[q - 1]);
           const double u = path > path_last ? (p - path_last) / (path - path_last) : 1.0;
-          k_exact[q] = k_exact[last] + u * (k_exact[t] - k_exact[last]);
+          k_exact[order[q]] = k_last + u * (k_t - k_last);
         }
         last = t;
         path_last = path;
       }
-      for (std::size_t t = i; t < run_end; ++t) out.amplitude[t] = std::min(out.amplitude[t] * k_exact[t], a_break[t]);
+      for (std::size_t t = i; t < run_end; ++t) {
+        amplitude[t] = std::min(amplitude[t] * k_exact[order[t]], samples_.a_break[order[t]]);
+      }
       i = run_end;
     }
   }

@@ -63,6 +63,8 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <vector>
 
 #include "houle/kernel/expected.hpp"
@@ -123,17 +125,19 @@ struct WaveRays {
   std::vector<std::int32_t> parent_a, parent_b;  ///< inserted rays: their two parents; -1 otherwise
   std::vector<std::int32_t> pierhead;      ///< DIFFRACTED rays: index into `pierheads`; -1 otherwise
 
-  // Per sample.
-  std::vector<double> x, y;        ///< m
-  std::vector<double> theta;       ///< rad, direction of the ray (of travel of the crest)
-  std::vector<double> k;           ///< rad/m, local wavenumber
-  std::vector<double> amplitude;   ///< m, A (height H = 2A), all factors and caps applied
-  std::vector<double> phase;       ///< rad, phi = integral of k ds (the surface phase is phi - omega t + train phase)
-  std::vector<double> time;        ///< s, travel time integral of ds / Cg
-  std::vector<std::uint8_t> sample_flags;  ///< sample_flag bits
+  // Per sample: read-only views into one block (`sample_storage`, shared by copies; see
+  // houle/kernel/bulk_memory.hpp for why one block).
+  std::span<const double> x, y;        ///< m
+  std::span<const double> theta;       ///< rad, direction of the ray (of travel of the crest)
+  std::span<const double> k;           ///< rad/m, local wavenumber
+  std::span<const double> amplitude;   ///< m, A (height H = 2A), all factors and caps applied
+  std::span<const double> phase;       ///< rad, phi = integral of k ds (the surface phase is phi - omega t + train phase)
+  std::span<const double> time;        ///< s, travel time integral of ds / Cg
+  std::span<const std::uint8_t> sample_flags;  ///< sample_flag bits
   /// The diffraction coefficient K' in `amplitude` (1 where none applies; per sample), or empty when
   /// no fan was spawned for this train (K' = 1 everywhere).
-  std::vector<float> diffraction;
+  std::span<const float> diffraction;
+  std::shared_ptr<const std::byte[]> sample_storage;
 
   /// Pierheads that spawned a fan for this train.
   struct Pierhead {
