@@ -206,6 +206,7 @@ struct Fan {
   double theta0 = 0.0;              // incidence in the breakwater frame
   double v_scale = 0.0;             // sqrt(4 k / pi): v = v_scale sqrt(r) cos((theta - theta0) / 2)
   double d0x = 0.0, d0y = 0.0;      // world unit vector at angle theta0 in the frame (towards the waves' origin)
+  double cos_theta0 = 1.0, sin_theta0 = 0.0;
 };
 
 // Samples in the order they are produced, in one block grown by doubling (bulk_memory.hpp: the
@@ -471,11 +472,18 @@ class TrainTracer {
       const double px = x - f.site.x, py = y - f.site.y;
       const double r = dist(px, py);
       if (f.v_scale * f.v_scale * 0.5 * (r + px * f.d0x + py * f.d0y) >= band_end * band_end) continue;
-      const BreakwaterPolar p = breakwater_polar(f.frame, x, y);
-      if (p.theta > pi + f.theta0) continue;
-      if (f.v_scale * std::sqrt(p.r) * std::cos(0.5 * (p.theta - f.theta0)) < band_end) return true;
+      // On the lit side cos((theta - theta0) / 2) >= 0, so that |v| is v and the point is in the band.
+      if (!beyond_shadow_line(f, px, py)) return true;
     }
     return false;
+  }
+
+  // theta > pi + theta0 (breakwater_polar's angle, without its atan2): the point (px, py) from the
+  // pierhead lies below the structure's line and counter-clockwise of the shadow line (direction
+  // pi + theta0) in the breakwater frame.
+  static bool beyond_shadow_line(const Fan& f, double px, double py) noexcept {
+    const double u = px * f.frame.ux + py * f.frame.uy, v = px * f.frame.vx + py * f.frame.vy;
+    return v < 0.0 && f.sin_theta0 * u - f.cos_theta0 * v > 0.0;
   }
 
   // K' at a sample of a ray of `family` (-1: undiffracted) with phase phi.
@@ -838,6 +846,8 @@ class TrainTracer {
     f.frame = frame.value();
     f.theta0 = f.frame.theta0;
     f.v_scale = std::sqrt(4.0 * f.wave_m.k / pi);
+    f.cos_theta0 = std::cos(f.theta0);
+    f.sin_theta0 = std::sin(f.theta0);
     f.d0x = std::cos(f.theta0) * f.frame.ux + std::sin(f.theta0) * f.frame.vx;
     f.d0y = std::cos(f.theta0) * f.frame.uy + std::sin(f.theta0) * f.frame.vy;
     const double along = mx * dx + my * dy;  // <= 0: M is behind R1's wavefront position
