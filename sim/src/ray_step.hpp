@@ -98,30 +98,10 @@ inline RayState lerp(const RayState& a, const RayState& b, double u) noexcept {
           a.phi + u * (b.phi - a.phi), a.s + u * (b.s - a.s), a.tau + u * (b.tau - a.tau)};
 }
 
-/// Advances `st` by dphi > 0 (its wave at the start is `w`, updated to the end). After each sub-step,
-/// `stop(from, to, depth_at_to)` returns where along that chord (0..1) an event happens, or > 1 for
-/// none; on an event the state is interpolated there, `w` re-evaluated, and advance returns true.
-/// `cos_t`, `sin_t` are cos and sin of st.theta (the caller keeps them: on a uniform floor theta
-/// never changes, and this saves a sincos per step).
+/// Advances `st` by dphi > 0 on a varying floor (its wave at the start is `w`, updated to the end): see
+/// advance(). Kept out of line so that the straight path stays small.
 template <class Stop>
-bool advance(const Medium& m, RayState& st, LocalWave& w, double dphi, double cos_t, double sin_t, Stop&& stop) {
-  if (m.uniform) {
-    // Straight line at constant k: exact.
-    RayState next = st;
-    const double ds = dphi / w.k;
-    next.x += cos_t * ds;
-    next.y += sin_t * ds;
-    next.phi += dphi;
-    next.s += ds;
-    next.tau += ds / w.cg;
-    const double u = stop(st, next, w.depth);
-    if (u <= 1.0) {
-      st = lerp(st, next, u);
-      return true;
-    }
-    st = next;
-    return false;
-  }
+[[gnu::noinline]] bool advance_curved(const Medium& m, RayState& st, LocalWave& w, double dphi, Stop& stop) {
   RayRate r0 = ray_rate(w, st.theta);
   const double ds = dphi / w.k;
   const double turn = std::fabs(r0.theta) * dphi;
@@ -154,6 +134,31 @@ bool advance(const Medium& m, RayState& st, LocalWave& w, double dphi, double co
     w = w_next;
     r0 = ray_rate(w, st.theta);
   }
+  return false;
+}
+
+/// Advances `st` by dphi > 0 (its wave at the start is `w`, updated to the end). After each sub-step,
+/// `stop(from, to, depth_at_to)` returns where along that chord (0..1) an event happens, or > 1 for
+/// none; on an event the state is interpolated there, `w` re-evaluated, and advance returns true.
+/// `cos_t`, `sin_t` are cos and sin of st.theta (the caller keeps them: on a uniform floor theta
+/// never changes, and this saves a sincos per step).
+template <class Stop>
+bool advance(const Medium& m, RayState& st, LocalWave& w, double dphi, double cos_t, double sin_t, Stop&& stop) {
+  if (!m.uniform) return advance_curved(m, st, w, dphi, stop);
+  // Straight line at constant k: exact.
+  RayState next = st;
+  const double ds = dphi / w.k;
+  next.x += cos_t * ds;
+  next.y += sin_t * ds;
+  next.phi += dphi;
+  next.s += ds;
+  next.tau += ds / w.cg;
+  const double u = stop(st, next, w.depth);
+  if (u <= 1.0) {
+    st = lerp(st, next, u);
+    return true;
+  }
+  st = next;
   return false;
 }
 

@@ -1103,13 +1103,14 @@ class TrainTracer {
     const std::size_t at_flags = layout.add<std::uint8_t>(ns), at_k = layout.add<float>(fans_.empty() ? 0 : ns);
     std::shared_ptr<std::byte[]> block = layout.allocate();
     double* arrays[std::size(staged)];
-    const std::uint32_t* order = samples_.order;
-    for (std::size_t i = 0; i < std::size(staged); ++i) {
-      arrays[i] = BulkLayout::at<double>(block.get(), at[i]);
-      for (std::size_t t = 0; t < ns; ++t) arrays[i][t] = staged[i][order[t]];
-    }
+    for (std::size_t i = 0; i < std::size(staged); ++i) arrays[i] = BulkLayout::at<double>(block.get(), at[i]);
     auto* flags = BulkLayout::at<std::uint8_t>(block.get(), at_flags);
-    for (std::size_t t = 0; t < ns; ++t) flags[t] = samples_.flags[order[t]];
+    const std::uint32_t* order = samples_.order;
+    for (std::size_t t = 0; t < ns; ++t) {
+      const std::uint32_t from = order[t];
+      for (std::size_t i = 0; i < std::size(staged); ++i) arrays[i][t] = staged[i][from];
+      flags[t] = samples_.flags[from];
+    }
     out.x = {arrays[0], ns};
     out.y = {arrays[1], ns};
     out.theta = {arrays[2], ns};
