@@ -173,11 +173,20 @@ std::complex<double> sommerfeld_field(double k_r, double theta, double theta0, d
   return sommerfeld_term(s, k_r, theta - theta0, radial) + alpha * sommerfeld_term(s, k_r, theta + theta0, radial);
 }
 
+namespace {
+// sommerfeld_term e^{-ikr}: the modulus needs no common phase, so only the Fresnel phase pi v^2 / 2
+// (small where it matters) is formed, never kr or kr cos psi.
+cplx sommerfeld_term_unphased(double sqrt_4kr_over_pi, double psi) noexcept {
+  const double v = sqrt_4kr_over_pi * std::cos(0.5 * psi);
+  const cplx diffracted = cplx{0.5, -0.5} * detail::fresnel_aux_tabulated(v);
+  if (v < 0.0) return diffracted;
+  return std::polar(1.0, -0.5 * pi * v * v) - diffracted;
+}
+}  // namespace
+
 double detail::sommerfeld_modulus_tabulated(double k_r, double theta, double theta0, double alpha) noexcept {
   const double s = std::sqrt(4.0 / pi * k_r);
-  const cplx radial = std::polar(1.0, k_r);
-  const cplx f = sommerfeld_term<detail::fresnel_aux_tabulated>(s, k_r, theta - theta0, radial) +
-                 alpha * sommerfeld_term<detail::fresnel_aux_tabulated>(s, k_r, theta + theta0, radial);
+  const cplx f = sommerfeld_term_unphased(s, theta - theta0) + alpha * sommerfeld_term_unphased(s, theta + theta0);
   return std::sqrt(f.real() * f.real() + f.imag() * f.imag());  // |F| <= 2: no need for hypot's range care
 }
 
