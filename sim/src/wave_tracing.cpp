@@ -606,6 +606,7 @@ class TrainTracer {
     r.flags |= ray_flag::dead;
     if (why == Stop::wall) {
       r.flags |= ray_flag::hit_wall;
+      ++wall_rays_;
       r.wall = wall;
       r.hit_x = r.st.x;
       r.hit_y = r.st.y;
@@ -670,7 +671,7 @@ class TrainTracer {
     }
     if (truncated_) return;
     // B: fans at pierheads the front has just passed (each site spawns once).
-    if (sites_left_ > 0) spawn_fans(j);
+    if (sites_left_ > 0 && wall_rays_ > 0) spawn_fans(j);  // a fan needs a ray that ended on a wall
     // C: tubes, caustics and amplitudes on this wavefront.
     measure_tubes();
     update_amplitudes();
@@ -687,6 +688,11 @@ class TrainTracer {
   // uniform water, where the wavefront is straight). False for anything else.
   struct Pose {
     double x, y, cos_t, sin_t;
+  };
+  // A neighbour pair's tube over the last step: widths then and now where it persisted soundly.
+  struct PairTube {
+    double b_prev = 0.0, b_now = 0.0;
+    bool sound = false, crossed = false;
   };
   bool pose_on_step(const Ray& r, double phi_j, Pose& p) const noexcept {
     if (live_on_step(r)) {
@@ -744,57 +750,62 @@ class TrainTracer {
     }
   }
 
+  // Tubes, caustics and amplitudes on this wavefront in one pass: pair (i, i + 1) is classified just
+  // before ray i, which needs it and pair (i - 1, i).
   void update_amplitudes() {
     const std::size_t n = order_.size();
-    pair_tubes_.assign(n, PairTube{});
-    for (std::size_t i = 0; i + 1 < n; ++i) {
-      const double sigma = pair_sigma_[i];
-      if (std::isnan(sigma)) continue;
-      Ray& a = rays_[std::size_t(order_[i])];
-      Ray& b = rays_[std::size_t(order_[i + 1])];
-      const bool persisted = a.tube_next == order_[i + 1];
-      bool crossed = sigma <= 0.0;
-      if (persisted) {
-        if (!a.tube_crossed && a.tube_sigma > 0.0 && sigma <= 0.0) {
-          // Neighbours swapped sides: a caustic between them (physics.md 2.5).
-          ++stats_.crossings;
-          a.flags |= ray_flag::crossed;
-          b.flags |= ray_flag::crossed;
-        }
-        crossed = a.tube_crossed || sigma <= 0.0;
-      }
-      if (crossed) {
-        a.crossed_with = order_[i + 1];
-        pair_tubes_[i].crossed = true;
-        continue;
-      }
-      if (!persisted || a.family != b.family || a.fresh || b.fresh) continue;
-      const double width = pair_width_[i];
-      if (!(a.tube_b > 0.0) || !(width > 0.0)) continue;
-      pair_tubes_[i] = PairTube{a.tube_b, width, true, false};
-    }
+    PairTube left{};
     for (std::size_t i = 0; i < n; ++i) {
+      const PairTube right = i + 1 < n ? classify_pair(i) : PairTube{};
       const std::int32_t id = order_[i];
       Ray& r = rays_[std::size_t(id)];
-      if (!live_on_step(r) || r.fresh) continue;
-      double w_prev = 0.0, w_now = 0.0;
-      int tubes = 0;
-      bool crossed = false;
-      for (std::size_t p : {i - 1, i}) {
-        if (p >= n - 1) continue;  // i = 0 has no left pair (p wraps), i = n - 1 no right one
-        const PairTube& t = pair_tubes_[p];
-        if (t.sound) w_prev += t.b_prev, w_now += t.b_now, ++tubes;
-        crossed = crossed || t.crossed;
+      if (live_on_step(r) && !r.fresh) {
+        double w_prev = 0.0, w_now = 0.0;
+        int tubes = 0;
+        for (const PairTube& t : {left, right}) {
+          if (t.sound) w_prev += t.b_prev, w_now += t.b_now, ++tubes;
+        }
+        // Energy flux A^2 Cg b is constant along the tube (physics.md 2.3).
+        const double ratio = tubes > 0 ? w_prev / w_now : 1.0;
+        if (!r.joined_now) r.width_ratio = ratio;
+        r.a_geo = r.a_prev * std::sqrt(r.cg_prev / r.w.cg * ratio);
+        // Caustic cap: Kr <= Kr_max (physics.md 2.5, cap 2).
+        r.a_geo = std::min(r.a_geo, set_.max_refraction_coefficient * train_.amplitude * r.w.ks);
+        if (left.crossed || right.crossed) samples_.flags[r.last_sample] |= sample_flag::crossed;
+        finalize(id);
       }
-      // Energy flux A^2 Cg b is constant along the tube (physics.md 2.3).
-      const double ratio = tubes > 0 ? w_prev / w_now : 1.0;
-      if (!r.joined_now) r.width_ratio = ratio;
-      r.a_geo = r.a_prev * std::sqrt(r.cg_prev / r.w.cg * ratio);
-      // Caustic cap: Kr <= Kr_max (physics.md 2.5, cap 2).
-      r.a_geo = std::min(r.a_geo, set_.max_refraction_coefficient * train_.amplitude * r.w.ks);
-      if (crossed) samples_.flags[r.last_sample] |= sample_flag::crossed;
-      finalize(id);
+      left = right;
     }
+  }
+
+  // The tube between order_[i] and order_[i + 1] over the last step; flags a caustic where the two
+  // have just swapped sides.
+  PairTube classify_pair(std::size_t i) {
+    PairTube t{};
+    const double sigma = pair_sigma_[i];
+    if (std::isnan(sigma)) return t;
+    Ray& a = rays_[std::size_t(order_[i])];
+    Ray& b = rays_[std::size_t(order_[i + 1])];
+    const bool persisted = a.tube_next == order_[i + 1];
+    bool crossed = sigma <= 0.0;
+    if (persisted) {
+      if (!a.tube_crossed && a.tube_sigma > 0.0 && sigma <= 0.0) {
+        // Neighbours swapped sides: a caustic between them (physics.md 2.5).
+        ++stats_.crossings;
+        a.flags |= ray_flag::crossed;
+        b.flags |= ray_flag::crossed;
+      }
+      crossed = a.tube_crossed || sigma <= 0.0;
+    }
+    if (crossed) {
+      a.crossed_with = order_[i + 1];
+      t.crossed = true;
+      return t;
+    }
+    if (!persisted || a.family != b.family || a.fresh || b.fresh) return t;
+    const double width = pair_width_[i];
+    if (!(a.tube_b > 0.0) || !(width > 0.0)) return t;
+    return PairTube{a.tube_b, width, true, false};
   }
 
   // ---- diffraction fans ----
@@ -1043,6 +1054,7 @@ class TrainTracer {
       r.alive = false;
       r.joined = false;
       r.flags |= ray_flag::dead | (in_wall ? ray_flag::hit_wall : ray_flag::reached_shore);
+      if (in_wall) ++wall_rays_;
       return id;
     }
     r.w = wave_at(medium_, x, y);
@@ -1221,6 +1233,7 @@ class TrainTracer {
   std::vector<PierheadSite> sites_;
   std::vector<bool> site_used_;
   std::size_t sites_left_ = 0;  // sites that have not spawned their fan yet
+  std::size_t wall_rays_ = 0;   // rays flagged hit_wall so far
   std::vector<Fan> fans_;
   std::vector<Ray> rays_;
   std::vector<std::int32_t> order_, merged_;
@@ -1230,12 +1243,6 @@ class TrainTracer {
   std::vector<double> pair_sigma_, pair_width_;
   std::vector<std::uint8_t> pair_real_;
   double widest_real_ = 0.0;  // the largest pair_sigma_ of a real pair
-  // A neighbour pair's tube over the last step: widths then and now where it persisted soundly.
-  struct PairTube {
-    double b_prev = 0.0, b_now = 0.0;
-    bool sound = false, crossed = false;
-  };
-  std::vector<PairTube> pair_tubes_;
   SampleStore samples_;
   DwtStats stats_{};
   std::int64_t first_step_ = 0;
