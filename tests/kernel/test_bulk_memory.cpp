@@ -1,0 +1,57 @@
+// BulkLayout: arrays carved from one block (kernel/include/houle/kernel/bulk_memory.hpp).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <numeric>
+#include <vector>
+
+#include "houle/kernel/bulk_memory.hpp"
+
+namespace {
+
+// Offsets are 64-byte aligned and disjoint (a guard line between arrays), the block holds them all,
+// and every byte of every array can be written and read back, for a small block (operator new) and
+// one past the huge-page threshold (an mmap on Linux).
+TEST(BulkMemory, ArraysAreAlignedDisjointAndWritable) {
+  for (std::size_t n : {std::size_t(0), std::size_t(3), std::size_t(1003), std::size_t(300003)}) {
+    houle::BulkLayout layout;
+    const std::size_t a = layout.add<double>(n), b = layout.add<std::uint8_t>(n), c = layout.add<float>(n);
+    EXPECT_EQ(a % 64, 0u);
+    EXPECT_EQ(b % 64, 0u);
+    EXPECT_EQ(c % 64, 0u);
+    EXPECT_GE(b, a + n * sizeof(double) + 64);
+    EXPECT_GE(c, b + n + 64);
+    EXPECT_GE(layout.bytes(), c + n * sizeof(float) + 64);
+    const auto block = layout.allocate();
+    ASSERT_NE(block, nullptr);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(block.get()) % 64, 0u);
+    double* x = houle::BulkLayout::at<double>(block.get(), a);
+    auto* f = houle::BulkLayout::at<std::uint8_t>(block.get(), b);
+    float* k = houle::BulkLayout::at<float>(block.get(), c);
+    for (std::size_t i = 0; i < n; ++i) x[i] = double(i), f[i] = std::uint8_t(i), k[i] = float(i) * 0.5f;
+    for (std::size_t i = 0; i < n; ++i) {
+      ASSERT_EQ(x[i], double(i));
+      ASSERT_EQ(f[i], std::uint8_t(i));
+      ASSERT_EQ(k[i], float(i) * 0.5f);
+    }
+  }
+}
+
+// Copies share the block; it lives as long as its last owner.
+TEST(BulkMemory, BlockLivesWithItsLastOwner) {
+  houle::BulkLayout layout;
+  const std::size_t a = layout.add<int>(1 << 20);  // 4 MiB: the huge-page path on Linux
+  std::shared_ptr<std::byte[]> copy;
+  {
+    const auto block = layout.allocate();
+    int* v = houle::BulkLayout::at<int>(block.get(), a);
+    std::iota(v, v + (1 << 20), 0);
+    copy = block;
+  }
+  const int* v = houle::BulkLayout::at<int>(copy.get(), a);
+  EXPECT_EQ(v[0], 0);
+  EXPECT_EQ(v[(1 << 20) - 1], (1 << 20) - 1);
+}
+
+}  // namespace
