@@ -54,7 +54,7 @@ std::shared_ptr<std::byte[]> BulkLayout::allocate() const {
 #endif
   auto* p = static_cast<std::byte*>(::operator new(bytes_, alignment));
 #if defined(HOULE_ASAN)
-  for (std::size_t g : guards_) ASAN_POISON_MEMORY_REGION(p + g, line);
+  for (const Gap& g : guards_) ASAN_POISON_MEMORY_REGION(p + g.begin, g.end - g.begin);
   const std::size_t size = bytes_;
   return std::shared_ptr<std::byte[]>(p, [size](std::byte* q) {
     ASAN_UNPOISON_MEMORY_REGION(q, size);

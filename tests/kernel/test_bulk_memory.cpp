@@ -54,4 +54,17 @@ TEST(BulkMemory, BlockLivesWithItsLastOwner) {
   EXPECT_EQ(v[(1 << 20) - 1], (1 << 20) - 1);
 }
 
+#if defined(__SANITIZE_ADDRESS__)
+// Under AddressSanitizer (the asan stage) the gap after an array is poisoned: reading one element
+// past a 10-double array, still inside the block, is reported.
+TEST(BulkMemory, OverrunIntoTheGapIsReportedUnderAsan) {
+  houle::BulkLayout layout;
+  const std::size_t a = layout.add<double>(10);
+  layout.add<double>(10);
+  const auto block = layout.allocate();
+  const volatile double* x = houle::BulkLayout::at<double>(block.get(), a);
+  EXPECT_DEATH((void)x[10], "use-after-poison");
+}
+#endif
+
 }  // namespace

@@ -13,17 +13,17 @@
 
 namespace houle {
 
-/// The layout of several arrays in one block. Each array starts on a 64-byte line and a guard line
-/// follows it; under AddressSanitizer the guards are poisoned, so an overrun of one array into the
-/// next is still reported.
+/// The layout of several arrays in one block. Each array starts on a 64-byte line and at least a
+/// guard line follows it; under AddressSanitizer everything between an array's end and the next
+/// array is poisoned, so an overrun of one array is still reported.
 class BulkLayout {
  public:
   /// Reserves `n` elements of T; returns the array's byte offset in the block.
   template <class T>
   std::size_t add(std::size_t n) noexcept {
-    const std::size_t at = bytes_;
-    bytes_ = round_up(at + n * sizeof(T)) + line;
-    guards_.push_back(bytes_ - line);
+    const std::size_t at = bytes_, end = at + n * sizeof(T);
+    bytes_ = round_up(end) + line;
+    guards_.push_back({end, bytes_});
     return at;
   }
   std::size_t bytes() const noexcept { return bytes_; }
@@ -39,7 +39,10 @@ class BulkLayout {
   static constexpr std::size_t line = 64;
   static std::size_t round_up(std::size_t b) noexcept { return (b + line - 1) / line * line; }
   std::size_t bytes_ = 0;
-  std::vector<std::size_t> guards_;  // offsets of the guard lines
+  struct Gap {
+    std::size_t begin, end;
+  };
+  std::vector<Gap> guards_;  // byte ranges after each array
 };
 
 }  // namespace houle
