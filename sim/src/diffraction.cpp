@@ -24,10 +24,9 @@ constexpr double angle_slack = 1e-12;
 //   v >= 0 (lit):                 e^{-ikr cos psi} - ((1-i)/2) aux(v) e^{ikr}   plane wave minus it
 // So the shadow value comes from the small tail itself, never from 1 - (...), and no large phase
 // is formed only to be cancelled. Both branches give e^{ikr}/2 at v = 0.
-template <cplx (*aux)(double) noexcept = detail::fresnel_aux>
 cplx sommerfeld_term(double sqrt_4kr_over_pi, double k_r, double psi, cplx radial) noexcept {
   const double v = sqrt_4kr_over_pi * std::cos(0.5 * psi);
-  const cplx diffracted = cplx{0.5, -0.5} * aux(v) * radial;
+  const cplx diffracted = cplx{0.5, -0.5} * detail::fresnel_aux(v) * radial;
   if (v < 0.0) return diffracted;
   return std::polar(1.0, -k_r * std::cos(psi)) - diffracted;
 }

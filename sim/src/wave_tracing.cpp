@@ -859,8 +859,8 @@ class TrainTracer {
     f.v_scale = std::sqrt(4.0 * f.wave_m.k / pi);
     f.cos_theta0 = std::cos(f.theta0);
     f.sin_theta0 = std::sin(f.theta0);
-    f.d0x = std::cos(f.theta0) * f.frame.ux + std::sin(f.theta0) * f.frame.vx;
-    f.d0y = std::cos(f.theta0) * f.frame.uy + std::sin(f.theta0) * f.frame.vy;
+    f.d0x = f.cos_theta0 * f.frame.ux + f.sin_theta0 * f.frame.vx;
+    f.d0y = f.cos_theta0 * f.frame.uy + f.sin_theta0 * f.frame.vy;
     const double along = mx * dx + my * dy;  // <= 0: M is behind R1's wavefront position
     f.phi_m = b.st.phi + b.w.k * along;
     f.tau_m = b.st.tau + along / b.w.cg;
