@@ -158,6 +158,75 @@ constexpr double band_start = 4.0, band_end = 8.0;
 
 // ---- The tracer --------------------------------------------------------------------------------
 
+// Samples are staged per ray in chunks: a chunk holds consecutive samples of one ray with all their
+// fields side by side. The sweep writes one sample to each live ray per step; the gather at the end
+// then copies runs per ray (the staging in production order made it a transpose that missed the
+// cache on every read), and only chunks in use are ever touched (bulk_memory.hpp: first touches cost).
+struct alignas(64) SampleChunk {
+  static constexpr std::uint32_t size = 32;
+  static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  double x[size], y[size], theta[size], k[size], amplitude[size], phase[size], time[size];
+  // Samples with a diffraction coefficient hold a_geo in `amplitude`, their breaking limit in
+  // a_break and, at knots, the exact K' in k_exact (NaN elsewhere); K' is applied after the sweep.
+  double a_break[size], k_exact[size];
+  std::uint8_t flags[size];
+  std::int32_t ray;
+  std::uint32_t next;  // the ray's next chunk, or none
+};
+
+// A ray's chunks, first to last (the last one partly filled).
+struct ChunkList {
+  std::uint32_t first = SampleChunk::none, last = SampleChunk::none;
+  std::uint32_t count = 0;  // samples
+};
+
+// Chunks in slabs of equal size, none of which moves once allocated. A sample is named by
+// chunk * SampleChunk::size + slot.
+class SampleStore {
+ public:
+  static constexpr std::uint32_t none = SampleChunk::none;
+
+  // Sizes the slabs for about `samples` samples (before the first append).
+  void reserve(std::size_t samples) {
+    const std::size_t chunks = samples / SampleChunk::size + 64;
+    while ((std::size_t(1) << shift_) < chunks) ++shift_;
+  }
+  std::uint32_t append(std::int32_t ray, ChunkList& list) {
+    const std::uint32_t slot = list.count % SampleChunk::size;
+    if (slot == 0) {
+      const std::uint32_t c = new_chunk();
+      chunk(c).ray = ray;
+      chunk(c).next = none;
+      (list.last == none ? list.first : chunk(list.last).next) = c;
+      list.last = c;
+    }
+    ++list.count;
+    ++n_;
+    return list.last * SampleChunk::size + slot;
+  }
+  std::size_t size() const noexcept { return n_; }
+
+  SampleChunk& chunk(std::uint32_t c) noexcept { return slabs_[c >> shift_][c & ((1u << shift_) - 1)]; }
+  SampleChunk& chunk_of(std::uint32_t sample) noexcept { return chunk(sample / SampleChunk::size); }
+  static std::uint32_t slot(std::uint32_t sample) noexcept { return sample % SampleChunk::size; }
+  std::uint8_t& flags(std::uint32_t sample) noexcept { return chunk_of(sample).flags[slot(sample)]; }
+
+ private:
+  std::uint32_t new_chunk() {
+    if (chunks_ == std::uint32_t(slabs_.size()) << shift_) {
+      BulkLayout layout;
+      const std::size_t at = layout.add<SampleChunk>(std::size_t(1) << shift_);
+      blocks_.push_back(layout.allocate());
+      slabs_.push_back(BulkLayout::at<SampleChunk>(blocks_.back().get(), at));
+    }
+    return chunks_++;
+  }
+  std::vector<std::shared_ptr<std::byte[]>> blocks_;
+  std::vector<SampleChunk*> slabs_;
+  std::uint32_t shift_ = 6, chunks_ = 0;
+  std::size_t n_ = 0;
+};
+
 struct Ray {
   RayState st{};
   double cos_t = 1.0, sin_t = 0.0;  // of st.theta
@@ -176,7 +245,8 @@ struct Ray {
   bool joined = false;           // has reached the phase grid
   bool joined_now = false;       // its first on-grid sample is this step's
   bool fresh = false;            // born complete on this step (fans, insertions): nothing to update
-  std::uint32_t last_sample = 0;
+  ChunkList samples;             // staged in samples_
+  std::uint32_t last_sample = SampleStore::none;
   std::uint32_t wall = 0;        // the wall it hit (when hit_wall)
   double hit_x = 0.0, hit_y = 0.0;
   // The tube to the next ray in order, as of the last completed step.
@@ -207,54 +277,6 @@ struct Fan {
   double v_scale = 0.0;             // sqrt(4 k / pi): v = v_scale sqrt(r) cos((theta - theta0) / 2)
   double d0x = 0.0, d0y = 0.0;      // world unit vector at angle theta0 in the frame (towards the waves' origin)
   double cos_theta0 = 1.0, sin_theta0 = 0.0;
-};
-
-// Samples in the order they are produced, in one block grown by doubling (bulk_memory.hpp: the
-// block is written once, first touches dominate); gathered per ray into the output at the end.
-class SampleStore {
- public:
-  double *x = nullptr, *y = nullptr, *theta = nullptr, *k = nullptr, *amplitude = nullptr, *phase = nullptr,
-         *time = nullptr;
-  // Samples with a diffraction coefficient hold a_geo in `amplitude`, their breaking limit in
-  // a_break and, at knots, the exact K' in k_exact (NaN elsewhere); K' is applied after the sweep.
-  double *a_break = nullptr, *k_exact = nullptr;
-  std::uint8_t* flags = nullptr;
-  std::int32_t* ray = nullptr;
-  std::uint32_t* order = nullptr;  // finish(): output position -> sample
-
-  void reserve(std::size_t capacity) {
-    if (capacity > capacity_) regrow(capacity);
-  }
-  std::size_t append() {
-    if (n_ == capacity_) regrow(std::max<std::size_t>(2 * capacity_, 1024));
-    return n_++;
-  }
-  std::size_t size() const noexcept { return n_; }
-
- private:
-  void regrow(std::size_t capacity) {
-    BulkLayout layout;
-    double** doubles[] = {&x, &y, &theta, &k, &amplitude, &phase, &time, &a_break, &k_exact};
-    std::size_t at[std::size(doubles)];
-    for (std::size_t i = 0; i < std::size(doubles); ++i) at[i] = layout.add<double>(capacity);
-    const std::size_t at_flags = layout.add<std::uint8_t>(capacity), at_ray = layout.add<std::int32_t>(capacity),
-                      at_order = layout.add<std::uint32_t>(capacity);
-    std::shared_ptr<std::byte[]> block = layout.allocate();
-    auto move = [&](auto*& array, std::size_t offset) {
-      using T = std::remove_reference_t<decltype(*array)>;
-      T* to = BulkLayout::at<T>(block.get(), offset);
-      if (n_ > 0) std::memcpy(to, array, n_ * sizeof(T));
-      array = to;
-    };
-    for (std::size_t i = 0; i < std::size(doubles); ++i) move(*doubles[i], at[i]);
-    move(flags, at_flags);
-    move(ray, at_ray);
-    move(order, at_order);
-    block_ = std::move(block);
-    capacity_ = capacity;
-  }
-  std::shared_ptr<std::byte[]> block_;
-  std::size_t n_ = 0, capacity_ = 0;
 };
 
 enum class Stop : std::uint8_t { none, wall, domain, shore };
@@ -448,19 +470,21 @@ class TrainTracer {
       truncated_ = true;
       return;
     }
-    const std::size_t s = samples_.append();
-    samples_.x[s] = st.x;
-    samples_.y[s] = st.y;
-    samples_.theta[s] = st.theta;
-    samples_.k[s] = w.k;
-    samples_.amplitude[s] = 0.0;
-    samples_.phase[s] = st.phi;
-    samples_.time[s] = st.tau;
-    samples_.flags[s] = flags;
-    samples_.a_break[s] = 0.0;
-    samples_.k_exact[s] = std::numeric_limits<double>::quiet_NaN();
-    samples_.ray[s] = id;
-    rays_[std::size_t(id)].last_sample = std::uint32_t(s);
+    Ray& r = rays_[std::size_t(id)];
+    const std::uint32_t s = samples_.append(id, r.samples);
+    SampleChunk& c = samples_.chunk_of(s);
+    const std::uint32_t i = SampleStore::slot(s);
+    c.x[i] = st.x;
+    c.y[i] = st.y;
+    c.theta[i] = st.theta;
+    c.k[i] = w.k;
+    c.amplitude[i] = 0.0;
+    c.phase[i] = st.phi;
+    c.time[i] = st.tau;
+    c.flags[i] = flags;
+    c.a_break[i] = 0.0;
+    c.k_exact[i] = std::numeric_limits<double>::quiet_NaN();
+    r.last_sample = s;
     ++stats_.samples;
   }
 
@@ -530,20 +554,21 @@ class TrainTracer {
   // again after the sweep (apply_diffraction).
   void finalize(std::int32_t id) {
     Ray& r = rays_[std::size_t(id)];
-    const std::uint32_t s = r.last_sample;
-    if (s >= samples_.size() || samples_.ray[s] != id) return;  // the sample cap refused it
+    if (r.last_sample == SampleStore::none) return;  // the sample cap refused it
+    SampleChunk& c = samples_.chunk_of(r.last_sample);
+    const std::uint32_t s = SampleStore::slot(r.last_sample);
     const double a_break = std::min(0.5 * set_.breaker_index * r.w.h, 0.071 * two_pi / r.w.k * r.w.tanh_kh);
-    const double x = samples_.x[s], y = samples_.y[s];
+    const double x = c.x[s], y = c.y[s];
     const bool diffracts = r.family >= 0 || (!fans_.empty() && in_band(x, y));
     double K = 1.0;
     if (diffracts) {
-      samples_.flags[s] |= sample_flag::diffraction;
+      c.flags[s] |= sample_flag::diffraction;
       if (!r.has_knot || r.st.s - r.knot_s >= r.knot_gap || r.st.s < r.knot_s) {
-        r.knot_k = k_factor(r.family, x, y, samples_.phase[s]);
+        r.knot_k = k_factor(r.family, x, y, c.phase[s]);
         r.knot_s = r.st.s;
         r.knot_gap = knot_spacing(r.family, x, y, r.w.k);
         r.has_knot = true;
-        samples_.k_exact[s] = r.knot_k;
+        c.k_exact[s] = r.knot_k;
       }
       K = r.knot_k;
     }
@@ -551,12 +576,12 @@ class TrainTracer {
     if (a > a_break) {
       a = a_break;
       if (K > 0.0) r.a_geo = a_break / K;
-      samples_.flags[s] |= sample_flag::broken;
+      c.flags[s] |= sample_flag::broken;
       if (!(r.flags & ray_flag::broken)) ++stats_.broken_rays;
       r.flags |= ray_flag::broken;
     }
-    samples_.amplitude[s] = diffracts ? r.a_geo : a;
-    samples_.a_break[s] = a_break;
+    c.amplitude[s] = diffracts ? r.a_geo : a;
+    c.a_break[s] = a_break;
   }
 
   // ---- stepping ----
@@ -771,7 +796,7 @@ class TrainTracer {
         r.a_geo = r.a_prev * std::sqrt(r.cg_prev / r.w.cg * ratio);
         // Caustic cap: Kr <= Kr_max (physics.md 2.5, cap 2).
         r.a_geo = std::min(r.a_geo, set_.max_refraction_coefficient * train_.amplitude * r.w.ks);
-        if (left.crossed || right.crossed) samples_.flags[r.last_sample] |= sample_flag::crossed;
+        if (left.crossed || right.crossed) samples_.flags(r.last_sample) |= sample_flag::crossed;
         finalize(id);
       }
       left = right;
@@ -1086,11 +1111,15 @@ class TrainTracer {
       a.tube_sigma = sigma;
       a.tube_b = crossed ? 0.0 : pair_width_[i];
       a.tube_crossed = crossed;
-      if (!crossed && pair_real_[i] && !(samples_.flags[a.last_sample] & sample_flag::off_grid) &&
-          !(samples_.flags[b.last_sample] & sample_flag::off_grid)) {
-        samples_.flags[a.last_sample] |= sample_flag::tube_next;
+      if (!crossed && pair_real_[i] && on_grid_sample(a) && on_grid_sample(b)) {
+        samples_.flags(a.last_sample) |= sample_flag::tube_next;
       }
     }
+  }
+
+  // A ray's latest sample is on the phase grid (false without one: the sample cap refused it).
+  bool on_grid_sample(const Ray& r) noexcept {
+    return r.last_sample != SampleStore::none && !(samples_.flags(r.last_sample) & sample_flag::off_grid);
   }
 
   // ---- output ----
@@ -1100,29 +1129,19 @@ class TrainTracer {
     std::vector<std::int32_t> rank(rays_.size(), -1);
     for (std::size_t i = 0; i < nr; ++i) rank[std::size_t(order_[i])] = std::int32_t(i);
     out.sample_begin.assign(nr + 1, 0);
-    const std::size_t ns = samples_.size();
-    for (std::size_t s = 0; s < ns; ++s) ++out.sample_begin[std::size_t(rank[std::size_t(samples_.ray[s])]) + 1];
-    for (std::size_t i = 0; i < nr; ++i) out.sample_begin[i + 1] += out.sample_begin[i];
-    // Samples into ray order: gathered, so the output block is written front to back once.
-    {
-      std::vector<std::uint32_t> cursor(out.sample_begin.begin(), out.sample_begin.end() - 1);
-      for (std::size_t s = 0; s < ns; ++s) samples_.order[cursor[std::size_t(rank[std::size_t(samples_.ray[s])])]++] = std::uint32_t(s);
-    }
+    for (std::size_t i = 0; i < nr; ++i) out.sample_begin[i + 1] = out.sample_begin[i] + rays_[std::size_t(order_[i])].samples.count;
+    const std::size_t ns = out.sample_begin[nr];
     BulkLayout layout;
-    const double* staged[] = {samples_.x, samples_.y, samples_.theta, samples_.k, samples_.amplitude, samples_.phase, samples_.time};
-    std::size_t at[std::size(staged)];
-    for (std::size_t i = 0; i < std::size(staged); ++i) at[i] = layout.add<double>(ns);
-    const std::size_t at_flags = layout.add<std::uint8_t>(ns), at_k = layout.add<float>(fans_.empty() ? 0 : ns);
+    constexpr std::size_t n_doubles = 7;  // x, y, theta, k, amplitude, phase, time
+    std::size_t at[n_doubles];
+    for (std::size_t i = 0; i < n_doubles; ++i) at[i] = layout.add<double>(ns);
+    const bool diffraction = !fans_.empty();
+    const std::size_t at_flags = layout.add<std::uint8_t>(ns), at_k = layout.add<float>(diffraction ? ns : 0);
     std::shared_ptr<std::byte[]> block = layout.allocate();
-    double* arrays[std::size(staged)];
-    for (std::size_t i = 0; i < std::size(staged); ++i) arrays[i] = BulkLayout::at<double>(block.get(), at[i]);
+    double* arrays[n_doubles];
+    for (std::size_t i = 0; i < n_doubles; ++i) arrays[i] = BulkLayout::at<double>(block.get(), at[i]);
     auto* flags = BulkLayout::at<std::uint8_t>(block.get(), at_flags);
-    const std::uint32_t* order = samples_.order;
-    for (std::size_t t = 0; t < ns; ++t) {
-      const std::uint32_t from = order[t];
-      for (std::size_t i = 0; i < std::size(staged); ++i) arrays[i][t] = staged[i][from];
-      flags[t] = samples_.flags[from];
-    }
+    float* coefficient = BulkLayout::at<float>(block.get(), at_k);
     out.x = {arrays[0], ns};
     out.y = {arrays[1], ns};
     out.theta = {arrays[2], ns};
@@ -1131,15 +1150,32 @@ class TrainTracer {
     out.phase = {arrays[5], ns};
     out.time = {arrays[6], ns};
     out.sample_flags = {flags, ns};
-    if (!fans_.empty()) {
-      float* coefficient = BulkLayout::at<float>(block.get(), at_k);
-      for (std::size_t i = 0; i < nr; ++i) {
-        apply_diffraction(out, arrays[4], rays_[std::size_t(order_[i])].family, out.sample_begin[i], out.sample_begin[i + 1]);
+    if (diffraction) out.diffraction = {coefficient, ns};
+    // Per ray, its chunks into the output block, front to back; K' is applied ray by ray on the way,
+    // from the ray's a_break and k_exact gathered into scratch.
+    for (std::size_t i = 0; i < nr; ++i) {
+      const Ray& r = rays_[std::size_t(order_[i])];
+      const std::size_t begin = out.sample_begin[i];
+      if (diffraction) k_scratch_.resize(r.samples.count), a_scratch_.resize(r.samples.count);
+      std::size_t t = begin;
+      for (std::uint32_t c = r.samples.first; c != SampleStore::none;) {
+        const SampleChunk& ch = samples_.chunk(c);
+        const std::size_t n = std::min<std::size_t>(SampleChunk::size, out.sample_begin[i + 1] - t);
+        const double* staged[n_doubles] = {ch.x, ch.y, ch.theta, ch.k, ch.amplitude, ch.phase, ch.time};
+        for (std::size_t a = 0; a < n_doubles; ++a) std::memcpy(arrays[a] + t, staged[a], n * sizeof(double));
+        std::memcpy(flags + t, ch.flags, n);
+        if (diffraction) {
+          std::memcpy(k_scratch_.data() + (t - begin), ch.k_exact, n * sizeof(double));
+          std::memcpy(a_scratch_.data() + (t - begin), ch.a_break, n * sizeof(double));
+        }
+        t += n;
+        c = ch.next;
       }
-      for (std::size_t t = 0; t < ns; ++t) {
-        coefficient[t] = (flags[t] & sample_flag::diffraction) ? float(samples_.k_exact[order[t]]) : 1.0f;
+      if (!diffraction) continue;
+      apply_diffraction(out, arrays[4], r.family, begin, out.sample_begin[i + 1]);
+      for (std::size_t q = begin; q < t; ++q) {
+        coefficient[q] = (flags[q] & sample_flag::diffraction) ? float(k_scratch_[q - begin]) : 1.0f;
       }
-      out.diffraction = {coefficient, ns};
     }
     out.sample_storage = std::move(block);
     out.first_step.resize(nr);
@@ -1166,11 +1202,10 @@ class TrainTracer {
   // K' for one ray's samples that carry a diffraction coefficient (they hold a_geo): exact at the
   // knots the sweep left (and at both ends of each run of such samples), linear in path length in
   // between; then the breaking cap once more, so H <= gamma_b h holds whatever the interpolation did.
-  // `out` holds the samples in ray order (its amplitudes are `amplitude`); the staged a_break and
-  // k_exact are reached through samples_.order.
+  // `out` holds the samples in ray order (its amplitudes are `amplitude`); k_scratch_ and a_scratch_
+  // hold the ray's staged k_exact and a_break, from `begin`.
   void apply_diffraction(const WaveRays& out, double* amplitude, std::int32_t family, std::size_t begin, std::size_t end) {
-    const std::uint32_t* order = samples_.order;
-    double* k_exact = samples_.k_exact;
+    auto k_exact = [&](std::size_t t) -> double& { return k_scratch_[t - begin]; };
     std::size_t i = begin;
     while (i < end) {
       if (!(out.sample_flags[i] & sample_flag::diffraction)) {
@@ -1180,27 +1215,27 @@ class TrainTracer {
       std::size_t run_end = i;
       while (run_end < end && (out.sample_flags[run_end] & sample_flag::diffraction)) ++run_end;
       for (std::size_t e : {i, run_end - 1}) {
-        double& K = k_exact[order[e]];
+        double& K = k_exact(e);
         if (std::isnan(K)) K = k_factor(family, out.x[e], out.y[e], out.phase[e]);
       }
       std::size_t last = i;
       double path = 0.0, path_last = 0.0;
       for (std::size_t t = i + 1; t < run_end; ++t) {
         path += dist(out.x[t] - out.x[t - 1], out.y[t] - out.y[t - 1]);
-        if (std::isnan(k_exact[order[t]])) continue;
+        if (std::isnan(k_exact(t))) continue;
         // Knot t: interpolate the samples since the previous knot.
-        const double k_last = k_exact[order[last]], k_t = k_exact[order[t]];
+        const double k_last = k_exact(last), k_t = k_exact(t);
         double p = path_last;
         for (std::size_t q = last + 1; q < t; ++q) {
           p += dist(out.x[q] - out.x[q - 1], out.y[q] - out.y[q - 1]);
           const double u = path > path_last ? (p - path_last) / (path - path_last) : 1.0;
-          k_exact[order[q]] = k_last + u * (k_t - k_last);
+          k_exact(q) = k_last + u * (k_t - k_last);
         }
         last = t;
         path_last = path;
       }
       for (std::size_t t = i; t < run_end; ++t) {
-        amplitude[t] = std::min(amplitude[t] * k_exact[order[t]], samples_.a_break[order[t]]);
+        amplitude[t] = std::min(amplitude[t] * k_exact(t), a_scratch_[t - begin]);
       }
       i = run_end;
     }
@@ -1244,6 +1279,7 @@ class TrainTracer {
   std::vector<std::uint8_t> pair_real_;
   double widest_real_ = 0.0;  // the largest pair_sigma_ of a real pair
   SampleStore samples_;
+  std::vector<double> k_scratch_, a_scratch_;  // finish(): one ray's k_exact and a_break
   DwtStats stats_{};
   std::int64_t first_step_ = 0;
   bool any_alive_ = false;

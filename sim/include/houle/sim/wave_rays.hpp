@@ -55,9 +55,9 @@
 //   end, costs the same for inserted and diffracted rays, and sums trains (and reflected waves) by
 //   adding grids; the ray structure (next_on_step, tube_next) stays available for a mesh if one is
 //   ever needed.
-// - Memory: the samples are staged in one block reserved from an estimate (doubled if it is
-//   exceeded) and gathered per ray into one output block (houle/kernel/bulk_memory.hpp: huge pages,
-//   as first touches dominated the build); everything is bounded by the caps in DwtSettings
+// - Memory: the samples are staged per ray in chunks of 32 (slabs sized from an estimate, more
+//   slabs if it is exceeded; nothing moves) and copied per ray into one output block
+//   (houle/kernel/bulk_memory.hpp: huge pages, as first touches dominated the build); everything is bounded by the caps in DwtSettings
 //   (dwt_bound): past a cap, insertion or tracing stops and DwtStats::truncated says so. This is
 //   scene-build work: nothing here runs per frame.
 //
