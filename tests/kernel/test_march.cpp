@@ -17,6 +17,7 @@
 #include "houle/kernel/surface_frame.hpp"
 #include "houle/sim/animation.hpp"
 #include "coastal_waves.hpp"
+#include "emulation.hpp"
 #include "allocation_counter.hpp"
 
 namespace {
@@ -196,7 +197,7 @@ houle::MarchParams default_params() {
 TEST(March, FindsTheFirstCrossingOfTheDenseReference) {
   const Scene s = make_scene(12.5f, -7.25f, 4.0);
   std::mt19937 rng(1234);
-  const Rays r = camera_rays(rng, 8000, s.cx, s.cy, 1.5f, 12.0f, -60.0f, -2.0f);
+  const Rays r = camera_rays(rng, houle::test::emulation_scaled(8000), s.cx, s.cy, 1.5f, 12.0f, -60.0f, -2.0f);
   const Comparison c = compare_with_reference(s.frame, default_params(), r);
   print("march vs dense reference (grid, default quality)", c);
   EXPECT_EQ(c.missed, 0u);
@@ -224,7 +225,7 @@ TEST(March, RealtimePresetFindsTheFirstCrossingOnALargeRandomRaySet) {
   p.pixel_angle = 2.0f * std::tan(0.5f * 50.0f * 0.017453292f) / 360.0f;
   p.noise = &noise_frame.value();
   std::mt19937 rng(2026);
-  const Rays r = camera_rays(rng, 16000, s.cx, s.cy, 6.0f, 6.0f, -60.0f, -0.5f);
+  const Rays r = camera_rays(rng, houle::test::emulation_scaled(16000), s.cx, s.cy, 6.0f, 6.0f, -60.0f, -0.5f);
   const Comparison c = compare_with_reference(s.frame, p, r);
   print("march vs dense reference (realtime preset, coast ripples, 640x360 pixel cone)", c);
   EXPECT_EQ(c.missed, 0u);
@@ -585,7 +586,7 @@ TEST(March, ViewRestrictedFillServesTheCameraRays) {
     }
     EXPECT_EQ(differ, 0u);
     Rays r;
-    for (int k = 0; k < 800; ++k) {
+    for (std::size_t k = 0; k < houle::test::emulation_scaled(800); ++k) {
       const auto d = houle::camera_ray(cam.value(), u(rng) * 1280.0f, u(rng) * 720.0f);
       r.add(cx, cy, 6.0f, d[0], d[1], d[2]);
     }

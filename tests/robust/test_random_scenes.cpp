@@ -9,10 +9,11 @@
 #include <random>
 
 #include "surface_checks.hpp"
+#include "emulation.hpp"
 
 namespace {
 
-constexpr int scene_count = 12;
+constexpr int scene_count = int(houle::test::emulation_scaled(12));
 
 // std::uniform_real_distribution differs between standard libraries; this does not.
 class Random {
