@@ -7,7 +7,6 @@
 #include <optional>
 #include <string>
 #include <thread>
-#include <type_traits>
 #include <utility>
 
 #include "houle/kernel/bulk_memory.hpp"
@@ -170,7 +169,6 @@ struct alignas(64) SampleChunk {
   // a_break and, at knots, the exact K' in k_exact (NaN elsewhere); K' is applied after the sweep.
   double a_break[size], k_exact[size];
   std::uint8_t flags[size];
-  std::int32_t ray;
   std::uint32_t next;  // the ray's next chunk, or none
 };
 
@@ -191,11 +189,10 @@ class SampleStore {
     const std::size_t chunks = samples / SampleChunk::size + 64;
     while ((std::size_t(1) << shift_) < chunks) ++shift_;
   }
-  std::uint32_t append(std::int32_t ray, ChunkList& list) {
+  std::uint32_t append(ChunkList& list) {
     const std::uint32_t slot = list.count % SampleChunk::size;
     if (slot == 0) {
       const std::uint32_t c = new_chunk();
-      chunk(c).ray = ray;
       chunk(c).next = none;
       (list.last == none ? list.first : chunk(list.last).next) = c;
       list.last = c;
@@ -471,7 +468,7 @@ class TrainTracer {
       return;
     }
     Ray& r = rays_[std::size_t(id)];
-    const std::uint32_t s = samples_.append(id, r.samples);
+    const std::uint32_t s = samples_.append(r.samples);
     SampleChunk& c = samples_.chunk_of(s);
     const std::uint32_t i = SampleStore::slot(s);
     c.x[i] = st.x;
