@@ -1,7 +1,6 @@
 // Dynamic Wave Tracing: the wavefront sweep (see wave_rays.hpp for the method and its choices).
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -157,18 +156,23 @@ constexpr double band_start = 4.0, band_end = 8.0;
 
 // ---- The tracer --------------------------------------------------------------------------------
 
-// Samples are staged per ray in chunks: a chunk holds consecutive samples of one ray with all their
-// fields side by side. The sweep writes one sample to each live ray per step; the gather at the end
-// then copies runs per ray (the staging in production order made it a transpose that missed the
-// cache on every read), and only chunks in use are ever touched (bulk_memory.hpp: first touches cost).
+// One sample as the sweep builds it. Samples with a diffraction coefficient hold a_geo in
+// `amplitude`, their breaking limit in a_break and, at knots, the exact K' in k_exact (NaN
+// elsewhere); K' is applied after the sweep.
+struct StagedSample {
+  double x, y, theta, k, amplitude, phase, time, a_break, k_exact;
+  std::uint8_t flags;
+};
+
+// Samples are staged per ray in chunks of consecutive samples of one ray. A ray holds its latest
+// sample itself while the sweep still amends it (amplitude, flags) and stores it whole when the
+// next one is written: the sweep never reads the store, and writes each sample to one place. The
+// gather at the end then copies runs per ray, and only chunks in use are ever touched
+// (bulk_memory.hpp: first touches cost).
 struct alignas(64) SampleChunk {
   static constexpr std::uint32_t size = 32;
   static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
-  double x[size], y[size], theta[size], k[size], amplitude[size], phase[size], time[size];
-  // Samples with a diffraction coefficient hold a_geo in `amplitude`, their breaking limit in
-  // a_break and, at knots, the exact K' in k_exact (NaN elsewhere); K' is applied after the sweep.
-  double a_break[size], k_exact[size];
-  std::uint8_t flags[size];
+  StagedSample at[size];
   std::uint32_t next;  // the ray's next chunk, or none
 };
 
@@ -178,8 +182,7 @@ struct ChunkList {
   std::uint32_t count = 0;  // samples
 };
 
-// Chunks in slabs of equal size, none of which moves once allocated. A sample is named by
-// chunk * SampleChunk::size + slot.
+// Chunks in slabs of equal size, none of which moves once allocated.
 class SampleStore {
  public:
   static constexpr std::uint32_t none = SampleChunk::none;
@@ -189,7 +192,8 @@ class SampleStore {
     const std::size_t chunks = samples / SampleChunk::size + 64;
     while ((std::size_t(1) << shift_) < chunks) ++shift_;
   }
-  std::uint32_t append(ChunkList& list) {
+  // A new last sample of `list`.
+  StagedSample& append(ChunkList& list) {
     const std::uint32_t slot = list.count % SampleChunk::size;
     if (slot == 0) {
       const std::uint32_t c = new_chunk();
@@ -198,15 +202,10 @@ class SampleStore {
       list.last = c;
     }
     ++list.count;
-    ++n_;
-    return list.last * SampleChunk::size + slot;
+    return chunk(list.last).at[slot];
   }
-  std::size_t size() const noexcept { return n_; }
 
   SampleChunk& chunk(std::uint32_t c) noexcept { return slabs_[c >> shift_][c & ((1u << shift_) - 1)]; }
-  SampleChunk& chunk_of(std::uint32_t sample) noexcept { return chunk(sample / SampleChunk::size); }
-  static std::uint32_t slot(std::uint32_t sample) noexcept { return sample % SampleChunk::size; }
-  std::uint8_t& flags(std::uint32_t sample) noexcept { return chunk_of(sample).flags[slot(sample)]; }
 
  private:
   std::uint32_t new_chunk() {
@@ -221,40 +220,48 @@ class SampleStore {
   std::vector<std::shared_ptr<std::byte[]>> blocks_;
   std::vector<SampleChunk*> slabs_;
   std::uint32_t shift_ = 6, chunks_ = 0;
-  std::size_t n_ = 0;
 };
 
-struct Ray {
+// Fields are grouped by the passes that use them (a step reads every ray in order several times, so
+// the lines a ray spans are the sweep's main cost); cold fields last.
+struct alignas(64) Ray {
+  // Motion and pose (pass A, tubes).
   RayState st{};
   double cos_t = 1.0, sin_t = 0.0;  // of st.theta
   LocalWave w{};                 // the wave at st
-  double a_geo = 0.0;            // m, amplitude from shoaling and tube width (no K', capped)
-  double a_prev = 0.0, cg_prev = 0.0;  // at the previous sample
-  double width_ratio = 1.0;      // b_prev / b over the last full step (for a final partial step)
-  std::int32_t family = -1;      // fan index, or -1 for the incident wave
-  double theta0 = 0.0;           // direction at birth
-  std::int32_t parent_a = -1, parent_b = -1;
-  std::uint8_t flags = 0;
-  std::int32_t first_step = -1;
+  // State on the wavefront (every pass).
   bool alive = true;             // not ended (pending rays are alive)
   bool entering = false;         // an initial ray that has not reached the domain: outside it, on a
                                  // straight path in uniform water, it still bounds its neighbours' tubes
   bool joined = false;           // has reached the phase grid
   bool joined_now = false;       // its first on-grid sample is this step's
   bool fresh = false;            // born complete on this step (fans, insertions): nothing to update
-  ChunkList samples;             // staged in samples_
-  std::uint32_t last_sample = SampleStore::none;
-  std::uint32_t wall = 0;        // the wall it hit (when hit_wall)
-  double hit_x = 0.0, hit_y = 0.0;
-  // The tube to the next ray in order, as of the last completed step.
+  bool has_latest = false;
+  bool tube_crossed = false;
+  std::uint8_t flags = 0;
+  std::int32_t family = -1;      // fan index, or -1 for the incident wave
+  std::int32_t crossed_with = -1;  // this step: the next ray it is found crossed with
+  // Amplitude and the tube to the next ray in order, as of the last completed step.
+  double a_geo = 0.0;            // m, amplitude from shoaling and tube width (no K', capped)
+  double a_prev = 0.0, cg_prev = 0.0;  // at the previous sample
+  double width_ratio = 1.0;      // b_prev / b over the last full step (for a final partial step)
   std::int32_t tube_next = -1;
   double tube_sigma = 0.0;       // perpendicular spacing, m
   double tube_b = 0.0;           // width used for amplitude (sigma, or sigma / d in a fan)
-  bool tube_crossed = false;
-  std::int32_t crossed_with = -1;  // this step: the next ray it is found crossed with
   // The last exact K' along this ray and where (path length s) it was computed.
   bool has_knot = false;
   double knot_k = 1.0, knot_s = 0.0, knot_gap = 0.0;
+  StagedSample latest{};         // the latest sample, if has_latest (see SampleChunk)
+  // Cold: samples stored, ends, lineage.
+  ChunkList samples;             // stored in samples_, all but the latest
+  std::uint32_t wall = 0;        // the wall it hit (when hit_wall)
+  double hit_x = 0.0, hit_y = 0.0;
+  double theta0 = 0.0;           // direction at birth
+  std::int32_t first_step = -1;
+  std::int32_t parent_a = -1, parent_b = -1;
+  // Rays dropped from the sweep that follow this one in the output, first to last (drop_inert_rays),
+  // linked by dropped_next.
+  std::int32_t dropped_first = -1, dropped_last = -1, dropped_next = -1;
 
   void sync_direction() noexcept {
     cos_t = std::cos(st.theta);
@@ -316,6 +323,7 @@ class TrainTracer {
     while (any_alive_ && !truncated_ && j <= last_step) {
       step(std::int32_t(j));
       ++stats_.steps;
+      if (j % 8 == 0) drop_inert_rays();
       ++j;
     }
     if (any_alive_) {
@@ -463,26 +471,21 @@ class TrainTracer {
   // ---- samples ----
 
   void write_sample(std::int32_t id, const RayState& st, const LocalWave& w, std::uint8_t flags) {
-    if (samples_.size() >= set_.max_samples) {
+    Ray& r = rays_[std::size_t(id)];
+    store_latest(r);
+    if (stats_.samples >= set_.max_samples) {
       truncated_ = true;
       return;
     }
-    Ray& r = rays_[std::size_t(id)];
-    const std::uint32_t s = samples_.append(r.samples);
-    SampleChunk& c = samples_.chunk_of(s);
-    const std::uint32_t i = SampleStore::slot(s);
-    c.x[i] = st.x;
-    c.y[i] = st.y;
-    c.theta[i] = st.theta;
-    c.k[i] = w.k;
-    c.amplitude[i] = 0.0;
-    c.phase[i] = st.phi;
-    c.time[i] = st.tau;
-    c.flags[i] = flags;
-    c.a_break[i] = 0.0;
-    c.k_exact[i] = std::numeric_limits<double>::quiet_NaN();
-    r.last_sample = s;
+    r.latest = StagedSample{st.x, st.y, st.theta, w.k, 0.0, st.phi, st.tau, 0.0,
+                            std::numeric_limits<double>::quiet_NaN(), flags};
+    r.has_latest = true;
     ++stats_.samples;
+  }
+
+  void store_latest(Ray& r) {
+    if (r.has_latest) samples_.append(r.samples) = r.latest;
+    r.has_latest = false;
   }
 
   // Does an undiffracted sample at (x, y) lie in some fan's lit-side band?
@@ -551,21 +554,20 @@ class TrainTracer {
   // again after the sweep (apply_diffraction).
   void finalize(std::int32_t id) {
     Ray& r = rays_[std::size_t(id)];
-    if (r.last_sample == SampleStore::none) return;  // the sample cap refused it
-    SampleChunk& c = samples_.chunk_of(r.last_sample);
-    const std::uint32_t s = SampleStore::slot(r.last_sample);
+    if (!r.has_latest) return;  // the sample cap refused it
+    StagedSample& c = r.latest;
     const double a_break = std::min(0.5 * set_.breaker_index * r.w.h, 0.071 * two_pi / r.w.k * r.w.tanh_kh);
-    const double x = c.x[s], y = c.y[s];
+    const double x = c.x, y = c.y;
     const bool diffracts = r.family >= 0 || (!fans_.empty() && in_band(x, y));
     double K = 1.0;
     if (diffracts) {
-      c.flags[s] |= sample_flag::diffraction;
+      c.flags |= sample_flag::diffraction;
       if (!r.has_knot || r.st.s - r.knot_s >= r.knot_gap || r.st.s < r.knot_s) {
-        r.knot_k = k_factor(r.family, x, y, c.phase[s]);
+        r.knot_k = k_factor(r.family, x, y, c.phase);
         r.knot_s = r.st.s;
         r.knot_gap = knot_spacing(r.family, x, y, r.w.k);
         r.has_knot = true;
-        c.k_exact[s] = r.knot_k;
+        c.k_exact = r.knot_k;
       }
       K = r.knot_k;
     }
@@ -573,12 +575,12 @@ class TrainTracer {
     if (a > a_break) {
       a = a_break;
       if (K > 0.0) r.a_geo = a_break / K;
-      c.flags[s] |= sample_flag::broken;
+      c.flags |= sample_flag::broken;
       if (!(r.flags & ray_flag::broken)) ++stats_.broken_rays;
       r.flags |= ray_flag::broken;
     }
-    c.amplitude[s] = diffracts ? r.a_geo : a;
-    c.a_break[s] = a_break;
+    c.amplitude = diffracts ? r.a_geo : a;
+    c.a_break = a_break;
   }
 
   // ---- stepping ----
@@ -657,53 +659,99 @@ class TrainTracer {
     return false;
   }
 
+  // Passes over the wavefront, fused where nothing in between can change their result: each pass
+  // reads every ray's state (several cache lines), and the passes, not the arithmetic, are most of
+  // the sweep's cost.
   void step(std::int32_t j) {
     step_ = j;
     const double phi_j = grid_phase(j);
     any_alive_ = false;
-    // A: advance every live ray to this wavefront.
-    for (std::int32_t id : order_) {
-      Ray& r = rays_[std::size_t(id)];
-      r.joined_now = false;
-      r.fresh = false;
-      r.crossed_with = -1;
-      if (!r.alive) continue;
-      any_alive_ = true;
-      r.a_prev = r.a_geo;
-      r.cg_prev = r.w.cg;
-      double dphi = front_.dphi;
-      if (!r.joined) {
-        if (r.st.phi > phi_j) continue;  // enters later
-        r.joined = r.joined_now = true;
-        r.entering = false;
-        r.first_step = j;
-        if (r.st.phi == phi_j) continue;  // its start sample is on this step already
-        dphi = phi_j - r.st.phi;
-      }
-      if (!advance_ray(id, dphi)) continue;
-      Ray& q = rays_[std::size_t(id)];
-      q.st.phi = phi_j;
-      if (q.st.s > path_max_) {
-        q.alive = false;
-        q.flags |= ray_flag::dead | ray_flag::truncated;
-        truncated_ = true;
-        continue;
-      }
-      write_sample(id, q.st, q.w, (q.flags & ray_flag::crossed) ? sample_flag::crossed : std::uint8_t(0));
+    // A: advance every live ray to this wavefront, and measure each pair once both are there.
+    begin_tubes();
+    Pose pa{}, pb{};
+    bool has_a = false;
+    for (std::size_t i = 0; i < order_.size(); ++i) {
+      advance_on_step(order_[i], j);
+      const bool has_b = pose_on_step(rays_[std::size_t(order_[i])], phi_j, pb);
+      if (i > 0 && has_a && has_b) measure_pair(i - 1, pa, pb);
+      pa = pb;
+      has_a = has_b;
     }
     if (truncated_) return;
-    // B: fans at pierheads the front has just passed (each site spawns once).
-    if (sites_left_ > 0 && wall_rays_ > 0) spawn_fans(j);  // a fan needs a ray that ended on a wall
-    // C: tubes, caustics and amplitudes on this wavefront.
-    measure_tubes();
-    update_amplitudes();
+    // B: fans at pierheads the front has just passed (each site spawns once); they change order_.
+    if (sites_left_ > 0 && wall_rays_ > 0 && spawn_fans(j)) measure_tubes();  // a fan needs a ray that ended on a wall
+    // C: tubes, caustics and amplitudes on this wavefront. Without insertion (D) the tubes of E are
+    // those of C, and E rides along.
+    const bool inserts = widest_real_ > set_.insertion_distance;
+    update_amplitudes(!inserts);
+    if (!inserts) return;
     // D: insertion where live neighbours are too far apart.
     for (int pass = 0; pass < max_insertion_passes && insert_rays(j); ++pass) measure_tubes();
     // E: remember this wavefront's tubes for the next step; mark sound tubes for tessellation.
-    record_tubes();
+    for (std::size_t i = 0; i < order_.size(); ++i) record_tube(i);
+  }
+
+  void advance_on_step(std::int32_t id, std::int32_t j) {
+    const double phi_j = grid_phase(j);
+    Ray& r = rays_[std::size_t(id)];
+    r.joined_now = false;
+    r.fresh = false;
+    r.crossed_with = -1;
+    if (!r.alive) return;
+    any_alive_ = true;
+    r.a_prev = r.a_geo;
+    r.cg_prev = r.w.cg;
+    double dphi = front_.dphi;
+    if (!r.joined) {
+      if (r.st.phi > phi_j) return;  // enters later
+      r.joined = r.joined_now = true;
+      r.entering = false;
+      r.first_step = j;
+      if (r.st.phi == phi_j) return;  // its start sample is on this step already
+      dphi = phi_j - r.st.phi;
+    }
+    if (!advance_ray(id, dphi)) return;
+    Ray& q = rays_[std::size_t(id)];
+    q.st.phi = phi_j;
+    if (q.st.s > path_max_) {
+      q.alive = false;
+      q.flags |= ray_flag::dead | ray_flag::truncated;
+      truncated_ = true;
+      return;
+    }
+    write_sample(id, q.st, q.w, (q.flags & ray_flag::crossed) ? sample_flag::crossed : std::uint8_t(0));
   }
 
   bool live_on_step(const Ray& r) const noexcept { return r.alive && r.joined; }
+
+  // Every pass of a step visits every ray in order_, and dead rays pile up in it. A dead ray between
+  // two dead neighbours can take no further part: it has no tube, spawns no fan, and never gets a
+  // new neighbour (rays are inserted only next to a live one). Such rays leave order_ and follow
+  // their predecessor in the output.
+  void drop_inert_rays() {
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < order_.size(); ++i) {
+      const std::int32_t id = order_[i];
+      if (kept > 0 && i + 1 < order_.size() && !rays_[std::size_t(id)].alive &&
+          !rays_[std::size_t(order_[kept - 1])].alive && !rays_[std::size_t(order_[i + 1])].alive) {
+        follow(order_[kept - 1], id);
+        continue;
+      }
+      order_[kept++] = id;
+    }
+    order_.resize(kept);
+  }
+
+  // Ray d (and the rays that follow it) now follow ray p's followers in the output.
+  void follow(std::int32_t p, std::int32_t d) {
+    Ray& rd = rays_[std::size_t(d)];
+    const std::int32_t tail = rd.dropped_last >= 0 ? rd.dropped_last : d;
+    rd.dropped_next = rd.dropped_first;
+    rd.dropped_first = rd.dropped_last = -1;
+    Ray& rp = rays_[std::size_t(p)];
+    (rp.dropped_last >= 0 ? rays_[std::size_t(rp.dropped_last)].dropped_next : rp.dropped_first) = d;
+    rp.dropped_last = tail;
+  }
 
   // Where a ray is on the current wavefront: its state if it is live there, or for an initial ray
   // still outside the domain the point of its straight entry path with that phase (the outside is
@@ -751,30 +799,39 @@ class TrainTracer {
   void measure_tubes() {
     const std::size_t n = order_.size();
     const double phi_j = grid_phase(step_);
-    pair_sigma_.assign(n, std::numeric_limits<double>::quiet_NaN());
-    pair_width_.assign(n, 0.0);
-    pair_real_.assign(n, 0);
-    widest_real_ = 0.0;
+    begin_tubes();
     Pose pa{}, pb{};
     bool has_a = n > 0 && pose_on_step(rays_[std::size_t(order_[0])], phi_j, pa);
     for (std::size_t i = 0; i + 1 < n; ++i) {
-      const Ray& a = rays_[std::size_t(order_[i])];
-      const Ray& b = rays_[std::size_t(order_[i + 1])];
-      const bool has_b = pose_on_step(b, phi_j, pb);
-      if (has_a && has_b) {
-        pair_sigma_[i] = spacing(pa, pb);
-        pair_width_[i] = tube_width(a.family, pa, pb, pair_sigma_[i]);
-        pair_real_[i] = live_on_step(a) && live_on_step(b);
-        if (pair_real_[i]) widest_real_ = std::max(widest_real_, pair_sigma_[i]);
-      }
+      const bool has_b = pose_on_step(rays_[std::size_t(order_[i + 1])], phi_j, pb);
+      if (has_a && has_b) measure_pair(i, pa, pb);
       pa = pb;
       has_a = has_b;
     }
   }
 
+  // No pair measured yet on this wavefront.
+  void begin_tubes() {
+    const std::size_t n = order_.size();
+    pair_sigma_.assign(n, std::numeric_limits<double>::quiet_NaN());
+    pair_width_.assign(n, 0.0);
+    pair_real_.assign(n, 0);
+    widest_real_ = 0.0;
+  }
+
+  // Pair (i, i + 1), whose rays have poses pa and pb on this wavefront.
+  void measure_pair(std::size_t i, const Pose& pa, const Pose& pb) {
+    const Ray& a = rays_[std::size_t(order_[i])];
+    const Ray& b = rays_[std::size_t(order_[i + 1])];
+    pair_sigma_[i] = spacing(pa, pb);
+    pair_width_[i] = tube_width(a.family, pa, pb, pair_sigma_[i]);
+    pair_real_[i] = live_on_step(a) && live_on_step(b);
+    if (pair_real_[i]) widest_real_ = std::max(widest_real_, pair_sigma_[i]);
+  }
+
   // Tubes, caustics and amplitudes on this wavefront in one pass: pair (i, i + 1) is classified just
-  // before ray i, which needs it and pair (i - 1, i).
-  void update_amplitudes() {
+  // before ray i, which needs it and pair (i - 1, i); with `record`, ray i's tube is recorded after.
+  void update_amplitudes(bool record) {
     const std::size_t n = order_.size();
     PairTube left{};
     for (std::size_t i = 0; i < n; ++i) {
@@ -793,9 +850,10 @@ class TrainTracer {
         r.a_geo = r.a_prev * std::sqrt(r.cg_prev / r.w.cg * ratio);
         // Caustic cap: Kr <= Kr_max (physics.md 2.5, cap 2).
         r.a_geo = std::min(r.a_geo, set_.max_refraction_coefficient * train_.amplitude * r.w.ks);
-        if (left.crossed || right.crossed) samples_.flags(r.last_sample) |= sample_flag::crossed;
+        if (left.crossed || right.crossed) r.latest.flags |= sample_flag::crossed;
         finalize(id);
       }
+      if (record) record_tube(i);
       left = right;
     }
   }
@@ -832,7 +890,8 @@ class TrainTracer {
 
   // ---- diffraction fans ----
 
-  void spawn_fans(std::int32_t j) {
+  // True if a fan was inserted into order_.
+  bool spawn_fans(std::int32_t j) {
     for (std::size_t i = 0; i + 1 < order_.size(); ++i) {
       for (int side : {+1, -1}) {
         // side +1: the dead ray is the next in order (to the live ray's left); -1: the previous.
@@ -847,7 +906,9 @@ class TrainTracer {
         }
       }
     }
-    if (!pending_.empty()) apply_insertions();
+    if (pending_.empty()) return false;
+    apply_insertions();
+    return true;
   }
 
   // [GL98] 2.2.1: ray `dead_id` ended on the wall of site s and its live neighbour `live_id` (R1)
@@ -1091,37 +1152,44 @@ class TrainTracer {
 
   // ---- tubes ----
 
-  void record_tubes() {
+  // Ray order_[i]'s tube to the next.
+  void record_tube(std::size_t i) {
     const std::size_t n = order_.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      Ray& a = rays_[std::size_t(order_[i])];
-      const double sigma = i + 1 < n ? pair_sigma_[i] : std::numeric_limits<double>::quiet_NaN();
-      if (std::isnan(sigma)) {
-        a.tube_next = -1;
-        a.tube_crossed = false;
-        continue;
-      }
-      const std::int32_t next = order_[i + 1];
-      const Ray& b = rays_[std::size_t(next)];
-      const bool crossed = a.crossed_with == next || sigma <= 0.0;
-      a.tube_next = next;
-      a.tube_sigma = sigma;
-      a.tube_b = crossed ? 0.0 : pair_width_[i];
-      a.tube_crossed = crossed;
-      if (!crossed && pair_real_[i] && on_grid_sample(a) && on_grid_sample(b)) {
-        samples_.flags(a.last_sample) |= sample_flag::tube_next;
-      }
+    Ray& a = rays_[std::size_t(order_[i])];
+    const double sigma = i + 1 < n ? pair_sigma_[i] : std::numeric_limits<double>::quiet_NaN();
+    if (std::isnan(sigma)) {
+      a.tube_next = -1;
+      a.tube_crossed = false;
+      return;
     }
+    const std::int32_t next = order_[i + 1];
+    const Ray& b = rays_[std::size_t(next)];
+    const bool crossed = a.crossed_with == next || sigma <= 0.0;
+    a.tube_next = next;
+    a.tube_sigma = sigma;
+    a.tube_b = crossed ? 0.0 : pair_width_[i];
+    a.tube_crossed = crossed;
+    if (!crossed && pair_real_[i] && on_grid_sample(a) && on_grid_sample(b)) a.latest.flags |= sample_flag::tube_next;
   }
 
   // A ray's latest sample is on the phase grid (false without one: the sample cap refused it).
   bool on_grid_sample(const Ray& r) noexcept {
-    return r.last_sample != SampleStore::none && !(samples_.flags(r.last_sample) & sample_flag::off_grid);
+    return r.has_latest && !(r.latest.flags & sample_flag::off_grid);
   }
 
   // ---- output ----
 
   WaveRays finish(WaveRays& out, DwtStats& stats) {
+    for (Ray& r : rays_) store_latest(r);
+    // The output order: order_ with the dropped rays back in place.
+    merged_.clear();
+    for (std::int32_t id : order_) {
+      merged_.push_back(id);
+      for (std::int32_t d = rays_[std::size_t(id)].dropped_first; d >= 0; d = rays_[std::size_t(d)].dropped_next) {
+        merged_.push_back(d);
+      }
+    }
+    order_.swap(merged_);
     const std::size_t nr = order_.size();
     std::vector<std::int32_t> rank(rays_.size(), -1);
     for (std::size_t i = 0; i < nr; ++i) rank[std::size_t(order_[i])] = std::int32_t(i);
@@ -1158,14 +1226,18 @@ class TrainTracer {
       for (std::uint32_t c = r.samples.first; c != SampleStore::none;) {
         const SampleChunk& ch = samples_.chunk(c);
         const std::size_t n = std::min<std::size_t>(SampleChunk::size, out.sample_begin[i + 1] - t);
-        const double* staged[n_doubles] = {ch.x, ch.y, ch.theta, ch.k, ch.amplitude, ch.phase, ch.time};
-        for (std::size_t a = 0; a < n_doubles; ++a) std::memcpy(arrays[a] + t, staged[a], n * sizeof(double));
-        std::memcpy(flags + t, ch.flags, n);
-        if (diffraction) {
-          std::memcpy(k_scratch_.data() + (t - begin), ch.k_exact, n * sizeof(double));
-          std::memcpy(a_scratch_.data() + (t - begin), ch.a_break, n * sizeof(double));
+        for (std::size_t q = 0; q < n; ++q, ++t) {
+          const StagedSample& s = ch.at[q];
+          arrays[0][t] = s.x;
+          arrays[1][t] = s.y;
+          arrays[2][t] = s.theta;
+          arrays[3][t] = s.k;
+          arrays[4][t] = s.amplitude;
+          arrays[5][t] = s.phase;
+          arrays[6][t] = s.time;
+          flags[t] = s.flags;
+          if (diffraction) k_scratch_[t - begin] = s.k_exact, a_scratch_[t - begin] = s.a_break;
         }
-        t += n;
         c = ch.next;
       }
       if (!diffraction) continue;
