@@ -164,11 +164,9 @@ struct StagedSample {
   std::uint8_t flags;
 };
 
-// Samples are staged per ray in chunks of consecutive samples of one ray. A ray holds its latest
-// sample itself while the sweep still amends it (amplitude, flags) and stores it whole when the
-// next one is written: the sweep never reads the store, and writes each sample to one place. The
-// gather at the end then copies runs per ray, and only chunks in use are ever touched
-// (bulk_memory.hpp: first touches cost).
+// Samples are staged per ray in chunks of consecutive samples of one ray; a ray points to its latest
+// sample, which the sweep still amends (amplitude, flags). The gather at the end then copies runs
+// per ray, and only chunks in use are ever touched (bulk_memory.hpp: first touches cost).
 struct alignas(64) SampleChunk {
   static constexpr std::uint32_t size = 32;
   static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
@@ -236,7 +234,6 @@ struct alignas(64) Ray {
   bool joined = false;           // has reached the phase grid
   bool joined_now = false;       // its first on-grid sample is this step's
   bool fresh = false;            // born complete on this step (fans, insertions): nothing to update
-  bool has_latest = false;
   bool tube_crossed = false;
   std::uint8_t flags = 0;
   std::int32_t family = -1;      // fan index, or -1 for the incident wave
@@ -251,7 +248,7 @@ struct alignas(64) Ray {
   // The last exact K' along this ray and where (path length s) it was computed.
   bool has_knot = false;
   double knot_k = 1.0, knot_s = 0.0, knot_gap = 0.0;
-  StagedSample latest{};         // the latest sample, if has_latest (see SampleChunk)
+  StagedSample* latest = nullptr;  // in samples_; null before the first (or if the cap refused it)
   // Cold: samples stored, ends, lineage.
   ChunkList samples;             // stored in samples_, all but the latest
   std::uint32_t wall = 0;        // the wall it hit (when hit_wall)
@@ -472,20 +469,15 @@ class TrainTracer {
 
   void write_sample(std::int32_t id, const RayState& st, const LocalWave& w, std::uint8_t flags) {
     Ray& r = rays_[std::size_t(id)];
-    store_latest(r);
     if (stats_.samples >= set_.max_samples) {
       truncated_ = true;
+      r.latest = nullptr;
       return;
     }
-    r.latest = StagedSample{st.x, st.y, st.theta, w.k, 0.0, st.phi, st.tau, 0.0,
-                            std::numeric_limits<double>::quiet_NaN(), flags};
-    r.has_latest = true;
+    r.latest = &samples_.append(r.samples);
+    *r.latest = StagedSample{st.x, st.y, st.theta, w.k, 0.0, st.phi, st.tau, 0.0,
+                             std::numeric_limits<double>::quiet_NaN(), flags};
     ++stats_.samples;
-  }
-
-  void store_latest(Ray& r) {
-    if (r.has_latest) samples_.append(r.samples) = r.latest;
-    r.has_latest = false;
   }
 
   // Does an undiffracted sample at (x, y) lie in some fan's lit-side band?
@@ -554,8 +546,8 @@ class TrainTracer {
   // again after the sweep (apply_diffraction).
   void finalize(std::int32_t id) {
     Ray& r = rays_[std::size_t(id)];
-    if (!r.has_latest) return;  // the sample cap refused it
-    StagedSample& c = r.latest;
+    if (!r.latest) return;  // the sample cap refused it
+    StagedSample& c = *r.latest;
     const double a_break = std::min(0.5 * set_.breaker_index * r.w.h, 0.071 * two_pi / r.w.k * r.w.tanh_kh);
     const double x = c.x, y = c.y;
     const bool diffracts = r.family >= 0 || (!fans_.empty() && in_band(x, y));
@@ -850,7 +842,7 @@ class TrainTracer {
         r.a_geo = r.a_prev * std::sqrt(r.cg_prev / r.w.cg * ratio);
         // Caustic cap: Kr <= Kr_max (physics.md 2.5, cap 2).
         r.a_geo = std::min(r.a_geo, set_.max_refraction_coefficient * train_.amplitude * r.w.ks);
-        if (left.crossed || right.crossed) r.latest.flags |= sample_flag::crossed;
+        if (left.crossed || right.crossed) r.latest->flags |= sample_flag::crossed;
         finalize(id);
       }
       if (record) record_tube(i);
@@ -1169,18 +1161,17 @@ class TrainTracer {
     a.tube_sigma = sigma;
     a.tube_b = crossed ? 0.0 : pair_width_[i];
     a.tube_crossed = crossed;
-    if (!crossed && pair_real_[i] && on_grid_sample(a) && on_grid_sample(b)) a.latest.flags |= sample_flag::tube_next;
+    if (!crossed && pair_real_[i] && on_grid_sample(a) && on_grid_sample(b)) a.latest->flags |= sample_flag::tube_next;
   }
 
   // A ray's latest sample is on the phase grid (false without one: the sample cap refused it).
   bool on_grid_sample(const Ray& r) noexcept {
-    return r.has_latest && !(r.latest.flags & sample_flag::off_grid);
+    return r.latest && !(r.latest->flags & sample_flag::off_grid);
   }
 
   // ---- output ----
 
   WaveRays finish(WaveRays& out, DwtStats& stats) {
-    for (Ray& r : rays_) store_latest(r);
     // The output order: order_ with the dropped rays back in place.
     merged_.clear();
     for (std::int32_t id : order_) {
