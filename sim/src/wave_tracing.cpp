@@ -250,7 +250,7 @@ struct alignas(64) Ray {
   double knot_k = 1.0, knot_s = 0.0, knot_gap = 0.0;
   StagedSample* latest = nullptr;  // in samples_; null before the first (or if the cap refused it)
   // Cold: samples stored, ends, lineage.
-  ChunkList samples;             // stored in samples_, all but the latest
+  ChunkList samples;             // in samples_
   std::uint32_t wall = 0;        // the wall it hit (when hit_wall)
   double hit_x = 0.0, hit_y = 0.0;
   double theta0 = 0.0;           // direction at birth
@@ -842,7 +842,7 @@ class TrainTracer {
         r.a_geo = r.a_prev * std::sqrt(r.cg_prev / r.w.cg * ratio);
         // Caustic cap: Kr <= Kr_max (physics.md 2.5, cap 2).
         r.a_geo = std::min(r.a_geo, set_.max_refraction_coefficient * train_.amplitude * r.w.ks);
-        if (left.crossed || right.crossed) r.latest->flags |= sample_flag::crossed;
+        if ((left.crossed || right.crossed) && r.latest) r.latest->flags |= sample_flag::crossed;
         finalize(id);
       }
       if (record) record_tube(i);
