@@ -169,55 +169,49 @@ struct StagedSample {
 // per ray, and only chunks in use are ever touched (bulk_memory.hpp: first touches cost).
 struct alignas(64) SampleChunk {
   static constexpr std::uint32_t size = 32;
-  static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
   StagedSample at[size];
-  std::uint32_t next;  // the ray's next chunk, or none
+  SampleChunk* next;  // the ray's next chunk, or null
 };
 
 // A ray's chunks, first to last (the last one partly filled).
 struct ChunkList {
-  std::uint32_t first = SampleChunk::none, last = SampleChunk::none;
+  SampleChunk* first = nullptr;
+  SampleChunk* last = nullptr;
   std::uint32_t count = 0;  // samples
 };
 
 // Chunks in slabs of equal size, none of which moves once allocated.
 class SampleStore {
  public:
-  static constexpr std::uint32_t none = SampleChunk::none;
-
   // Sizes the slabs for about `samples` samples (before the first append).
-  void reserve(std::size_t samples) {
-    const std::size_t chunks = samples / SampleChunk::size + 64;
-    while ((std::size_t(1) << shift_) < chunks) ++shift_;
-  }
+  void reserve(std::size_t samples) { slab_chunks_ = std::max(slab_chunks_, samples / SampleChunk::size + 64); }
   // A new last sample of `list`.
   StagedSample& append(ChunkList& list) {
     const std::uint32_t slot = list.count % SampleChunk::size;
     if (slot == 0) {
-      const std::uint32_t c = new_chunk();
-      chunk(c).next = none;
-      (list.last == none ? list.first : chunk(list.last).next) = c;
+      SampleChunk* c = new_chunk();
+      c->next = nullptr;
+      (list.last ? list.last->next : list.first) = c;
       list.last = c;
     }
     ++list.count;
-    return chunk(list.last).at[slot];
+    return list.last->at[slot];
   }
-
-  SampleChunk& chunk(std::uint32_t c) noexcept { return slabs_[c >> shift_][c & ((1u << shift_) - 1)]; }
 
  private:
-  std::uint32_t new_chunk() {
-    if (chunks_ == std::uint32_t(slabs_.size()) << shift_) {
+  SampleChunk* new_chunk() {
+    if (used_ == slab_chunks_ || blocks_.empty()) {
       BulkLayout layout;
-      const std::size_t at = layout.add<SampleChunk>(std::size_t(1) << shift_);
+      const std::size_t at = layout.add<SampleChunk>(slab_chunks_);
       blocks_.push_back(layout.allocate());
-      slabs_.push_back(BulkLayout::at<SampleChunk>(blocks_.back().get(), at));
+      slab_ = BulkLayout::at<SampleChunk>(blocks_.back().get(), at);
+      used_ = 0;
     }
-    return chunks_++;
+    return slab_ + used_++;
   }
   std::vector<std::shared_ptr<std::byte[]>> blocks_;
-  std::vector<SampleChunk*> slabs_;
-  std::uint32_t shift_ = 6, chunks_ = 0;
+  SampleChunk* slab_ = nullptr;  // the last slab, of which used_ chunks are taken
+  std::size_t slab_chunks_ = 64, used_ = 0;
 };
 
 // Fields are grouped by the passes that use them (a step reads every ray in order several times, so
@@ -1214,8 +1208,8 @@ class TrainTracer {
       const std::size_t begin = out.sample_begin[i];
       if (diffraction) k_scratch_.resize(r.samples.count), a_scratch_.resize(r.samples.count);
       std::size_t t = begin;
-      for (std::uint32_t c = r.samples.first; c != SampleStore::none;) {
-        const SampleChunk& ch = samples_.chunk(c);
+      for (const SampleChunk* c = r.samples.first; c; c = c->next) {
+        const SampleChunk& ch = *c;
         const std::size_t n = std::min<std::size_t>(SampleChunk::size, out.sample_begin[i + 1] - t);
         for (std::size_t q = 0; q < n; ++q, ++t) {
           const StagedSample& s = ch.at[q];
@@ -1229,7 +1223,6 @@ class TrainTracer {
           flags[t] = s.flags;
           if (diffraction) k_scratch_[t - begin] = s.k_exact, a_scratch_[t - begin] = s.a_break;
         }
-        c = ch.next;
       }
       if (!diffraction) continue;
       apply_diffraction(out, arrays[4], r.family, begin, out.sample_begin[i + 1]);
