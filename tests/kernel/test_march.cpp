@@ -254,7 +254,7 @@ TEST(March, QualityKnobsKeepTheGuaranteeAndTradeAccuracyForEvaluations) {
   // move with the knobs (printed: this is the accuracy/time frontier the presets pick from).
   const Scene s = make_scene(40.0f, 10.0f, 11.0);
   std::mt19937 rng(555);
-  const Rays r = camera_rays(rng, 500, s.cx, s.cy, 2.0f, 10.0f, -40.0f, -1.0f);
+  const Rays r = camera_rays(rng, houle::test::emulation_scaled(500), s.cx, s.cy, 2.0f, 10.0f, -40.0f, -1.0f);
   for (float fraction : {0.25f, 1.0f, 4.0f}) {
     for (int iterations : {0, 2, 4, 8}) {
       houle::MarchParams p = default_params();
@@ -273,7 +273,7 @@ TEST(March, QualityKnobsKeepTheGuaranteeAndTradeAccuracyForEvaluations) {
 TEST(March, GrazingRaysFindTheFirstCrossing) {
   const Scene s = make_scene(-3.0f, 5.0f, 9.0);
   std::mt19937 rng(99);
-  const Rays r = camera_rays(rng, 400, s.cx, s.cy, 1.0f, 3.0f, -2.0f, 0.2f);
+  const Rays r = camera_rays(rng, houle::test::emulation_scaled(400), s.cx, s.cy, 1.0f, 3.0f, -2.0f, 0.2f);
   const Comparison c = compare_with_reference(s.frame, default_params(), r);
   print("grazing rays (elevation -2..0.2 deg)", c);
   EXPECT_EQ(c.missed, 0u);
@@ -427,7 +427,7 @@ TEST(March, WithCapillaryNoiseFindsTheFirstCrossing) {
   houle::MarchParams p = default_params();
   p.noise = &noise_frame.value();
   std::mt19937 rng(4321);
-  const Rays r = camera_rays(rng, 1000, s.cx, s.cy, 1.5f, 6.0f, -50.0f, -3.0f);
+  const Rays r = camera_rays(rng, houle::test::emulation_scaled(1000), s.cx, s.cy, 1.5f, 6.0f, -50.0f, -3.0f);
   const Comparison c = compare_with_reference(s.frame, p, r);
   print("march vs dense reference (grid + capillary noise)", c);
   EXPECT_EQ(c.missed, 0u);
