@@ -8,7 +8,7 @@
 #include <unistd.h>
 
 #if HOULE_WITH_OIIO
-#include <OpenImageIO/imageio.h>
+#include "image_module.hpp"
 #endif
 
 namespace houle::cli {
@@ -46,31 +46,21 @@ namespace {
 #if HOULE_WITH_OIIO
 class ImageWriter final : public FrameWriter {
  public:
-  ImageWriter(std::string pattern, int w, int h, bool linear)
-      : pattern_(std::move(pattern)), w_(w), h_(h), linear_(linear), pixels_(std::size_t(w) * h * 3) {}
+  ImageWriter(const ImageModule& module, std::string pattern, int w, int h, bool linear)
+      : module_(module), pattern_(std::move(pattern)), w_(w), h_(h), linear_(linear), pixels_(std::size_t(w) * h * 3) {}
 
   WriteStatus write(const Framebuffer& fb, const ToneMap& tm, long index) override {
     const std::string name = format_frame_name(pattern_, index).value();
     const std::string tmp = name + ".tmp" + std::to_string(::getpid());
-    OIIO::ImageSpec spec(w_, h_, 3, linear_ ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
-    // zlib level 1: PNG writing dominated frame time at the default 6 (toolchain.md: 45 vs 14 ms).
-    spec.attribute("png:compressionLevel", 1);
-    spec.attribute("oiio:ColorSpace", linear_ ? "Linear" : "sRGB");
-    auto out = OIIO::ImageOutput::create(name);  // the final name picks the format
-    bool ok = out && out->open(tmp, spec);
-    if (ok) {
-      if (linear_) {
-        ok = out->write_image(OIIO::TypeDesc::FLOAT, fb.rgb.data());
-      } else {
-        encode_frame(fb, tm, PixelFormat::rgb24, std::as_writable_bytes(std::span(pixels_)));
-        ok = out->write_image(OIIO::TypeDesc::UINT8, pixels_.data());
-      }
-      ok = out->close() && ok;
-    }
+    if (!linear_) encode_frame(fb, tm, PixelFormat::rgb24, std::as_writable_bytes(std::span(pixels_)));
+    const void* data = linear_ ? static_cast<const void*>(fb.rgb.data()) : pixels_.data();
+    char message[512] = "";
+    // The final name picks the format.
+    const bool ok = module_.write_rgb(tmp.c_str(), name.c_str(), w_, h_, linear_, data, message, sizeof message) == 0;
     std::error_code ec;
     if (ok) std::filesystem::rename(tmp, name, ec);
     if (!ok || ec) {
-      error_ = name + ": cannot write the image: " + (ec ? ec.message() : out ? out->geterror() : OIIO::geterror());
+      error_ = name + ": cannot write the image: " + (ec ? ec.message() : std::string(message));
       std::filesystem::remove(tmp, ec);
       return WriteStatus::failed;
     }
@@ -78,6 +68,7 @@ class ImageWriter final : public FrameWriter {
   }
 
  private:
+  const ImageModule& module_;
   std::string pattern_;
   int w_, h_;
   bool linear_;
@@ -125,15 +116,19 @@ Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& patt
 #if HOULE_WITH_OIIO
   Expected<std::string> first = format_frame_name(pattern, 0);
   if (!first) return first.error();
-  auto probe = OIIO::ImageOutput::create(first.value());
-  if (!probe) return Error{pattern, "no image format for this file name (" + OIIO::geterror() + ")"};
+  Expected<const ImageModule*> module = image_module();
+  if (!module) return module.error();
+  char message[512] = "";
+  if (module.value()->can_write(first.value().c_str(), message, sizeof message) != 0) {
+    return Error{pattern, "no image format for this file name (" + std::string(message) + ")"};
+  }
   const std::string ext = std::filesystem::path(first.value()).extension().string();
   const bool linear = ext == ".exr" || ext == ".EXR";
   const std::filesystem::path dir = std::filesystem::path(first.value()).parent_path();
   if (!dir.empty() && !std::filesystem::is_directory(dir)) {
     return Error{pattern, "the folder " + dir.string() + " does not exist"};
   }
-  return std::unique_ptr<FrameWriter>(new ImageWriter(pattern, width, height, linear));
+  return std::unique_ptr<FrameWriter>(new ImageWriter(*module.value(), pattern, width, height, linear));
 #else
   (void)width, (void)height;
   return Error{pattern, "this houle was built without OpenImageIO: use --raw"};

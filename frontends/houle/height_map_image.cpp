@@ -1,35 +1,54 @@
 #include "height_map_image.hpp"
 
+#include <vector>
+
 #if HOULE_WITH_OIIO
-#include <OpenImageIO/imageio.h>
+#include "image_module.hpp"
 #endif
 
 namespace houle::cli {
 
 #if HOULE_WITH_OIIO
+namespace {
+
+// The module's read target: the first channel, refused beyond the size limits.
+struct Pixels {
+  int width = 0, height = 0;
+  std::vector<float> grey;
+  static float* allocate(void* context, int width, int height) {
+    auto& p = *static_cast<Pixels*>(context);
+    p.width = width;
+    p.height = height;
+    if (width < 2 || height < 2 || std::size_t(width) * std::size_t(height) > max_height_map_pixels) return nullptr;
+    p.grey.resize(std::size_t(width) * std::size_t(height));
+    return p.grey.data();
+  }
+};
+
+}  // namespace
+
 Expected<HeightMap> load_height_map(const std::string& path, const HeightMapImage& how) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) return Error{path, "cannot open the height map image: " + OIIO::geterror()};
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width < 2 || spec.height < 2) return Error{path, "a height map needs at least 2x2 pixels"};
-  if (std::size_t(spec.width) * std::size_t(spec.height) > max_height_map_pixels) {
-    return Error{path, "height map of " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+  Expected<const ImageModule*> module = image_module();
+  if (!module) return module.error();
+  Pixels pixels;
+  char message[512] = "";
+  const int status = module.value()->read_first_channel(path.c_str(), &pixels, &Pixels::allocate, message, sizeof message);
+  if (status == 2 && (pixels.width < 2 || pixels.height < 2)) return Error{path, "a height map needs at least 2x2 pixels"};
+  if (status == 2) {
+    return Error{path, "height map of " + std::to_string(pixels.width) + "x" + std::to_string(pixels.height) +
                            " pixels is over the limit of 8192x8192"};
   }
-  std::vector<float> pixels(std::size_t(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data())) {
-    return Error{path, "cannot read the height map image: " + in->geterror()};
-  }
+  if (status != 0) return Error{path, std::string("height map: ") + message};
   HeightMap map;
-  map.nx = std::uint32_t(spec.width);
-  map.ny = std::uint32_t(spec.height);
+  map.nx = std::uint32_t(pixels.width);
+  map.ny = std::uint32_t(pixels.height);
   map.origin = how.origin;
   map.cell = how.cell;
   map.depth.resize(std::size_t(map.nx) * map.ny);
-  // The first channel is the grey level; the image's first row is the north edge.
+  // The grey level; the image's first row is the north edge.
   for (std::uint32_t j = 0; j < map.ny; ++j) {
     for (std::uint32_t i = 0; i < map.nx; ++i) {
-      const float v = pixels[(std::size_t(map.ny - 1 - j) * map.nx + i) * spec.nchannels];
+      const float v = pixels.grey[std::size_t(map.ny - 1 - j) * map.nx + i];
       map.depth[std::size_t(j) * map.nx + i] = float(how.depth_at_black + (how.depth_at_white - how.depth_at_black) * v);
     }
   }

@@ -84,6 +84,21 @@ expect accents-in-key 2 'accents-bare.toml:2:1: a non-ASCII character outside a 
 printf '[sun]\nelevation_deg = 20.0 \xff\n' >"$work/bad-utf8.toml"
 expect invalid-utf8 2 'bad-utf8.toml:2:22: invalid UTF-8' "$houle" validate "$work/bad-utf8.toml"
 
+# Height maps from images, read through the image module (image_module.hpp).
+printf 'P2\n4 3\n255\n0 64 128 255\n0 64 128 255\n0 64 128 255\n' >"$work/map.pgm"
+printf 'P2\n1 1\n255\n0\n' >"$work/tiny.pgm"
+hm() { scene "$1" "[domain]
+x_max = 100.0
+y_max = 100.0
+[floor.height_map]
+file = \"$2\"
+cell = 30.0
+[[trains]]
+period = 5.0"; }
+expect height-map 0 'height map' "$houle" info "$(hm height-map map.pgm)"
+expect height-map-tiny 2 'height-map-tiny.toml:5:8: floor.height_map.file: a height map needs at least 2x2 pixels' "$houle" validate "$(hm height-map-tiny tiny.pgm)"
+expect height-map-missing 2 'floor.height_map.file: height map: cannot open the image' "$houle" validate "$(hm height-map-missing nope.pgm)"
+
 # Limits (docs/scenes.md): refused up front with what was expected, never an out-of-memory crash.
 f=$(scene huge-domain '[domain]
 x_max = 1000000.0')
