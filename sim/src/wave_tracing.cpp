@@ -1211,18 +1211,24 @@ class TrainTracer {
       for (const SampleChunk* c = r.samples.first; c; c = c->next) {
         const SampleChunk& ch = *c;
         const std::size_t n = std::min<std::size_t>(SampleChunk::size, out.sample_begin[i + 1] - t);
-        for (std::size_t q = 0; q < n; ++q, ++t) {
+        for (std::size_t q = 0; q < n; ++q) {
           const StagedSample& s = ch.at[q];
-          arrays[0][t] = s.x;
-          arrays[1][t] = s.y;
-          arrays[2][t] = s.theta;
-          arrays[3][t] = s.k;
-          arrays[4][t] = s.amplitude;
-          arrays[5][t] = s.phase;
-          arrays[6][t] = s.time;
-          flags[t] = s.flags;
-          if (diffraction) k_scratch_[t - begin] = s.k_exact, a_scratch_[t - begin] = s.a_break;
+          arrays[0][t + q] = s.x;
+          arrays[1][t + q] = s.y;
+          arrays[2][t + q] = s.theta;
+          arrays[3][t + q] = s.k;
+          arrays[4][t + q] = s.amplitude;
+          arrays[5][t + q] = s.phase;
+          arrays[6][t + q] = s.time;
+          flags[t + q] = s.flags;
         }
+        if (diffraction) {
+          for (std::size_t q = 0; q < n; ++q) {
+            k_scratch_[t - begin + q] = ch.at[q].k_exact;
+            a_scratch_[t - begin + q] = ch.at[q].a_break;
+          }
+        }
+        t += n;
       }
       if (!diffraction) continue;
       apply_diffraction(out, arrays[4], r.family, begin, out.sample_begin[i + 1]);
@@ -1273,15 +1279,16 @@ class TrainTracer {
       }
       std::size_t last = i;
       double path = 0.0, path_last = 0.0;
+      path_scratch_.resize(run_end - i);  // path length from sample i
+      path_scratch_[0] = 0.0;
       for (std::size_t t = i + 1; t < run_end; ++t) {
         path += dist(out.x[t] - out.x[t - 1], out.y[t] - out.y[t - 1]);
+        path_scratch_[t - i] = path;
         if (std::isnan(k_exact(t))) continue;
         // Knot t: interpolate the samples since the previous knot.
         const double k_last = k_exact(last), k_t = k_exact(t);
-        double p = path_last;
         for (std::size_t q = last + 1; q < t; ++q) {
-          p += dist(out.x[q] - out.x[q - 1], out.y[q] - out.y[q - 1]);
-          const double u = path > path_last ? (p - path_last) / (path - path_last) : 1.0;
+          const double u = path > path_last ? (path_scratch_[q - i] - path_last) / (path - path_last) : 1.0;
           k_exact(q) = k_last + u * (k_t - k_last);
         }
         last = t;
@@ -1333,6 +1340,7 @@ class TrainTracer {
   double widest_real_ = 0.0;  // the largest pair_sigma_ of a real pair
   SampleStore samples_;
   std::vector<double> k_scratch_, a_scratch_;  // finish(): one ray's k_exact and a_break
+  std::vector<double> path_scratch_;            // apply_diffraction(): path lengths along a run
   DwtStats stats_{};
   std::int64_t first_step_ = 0;
   bool any_alive_ = false;
