@@ -214,8 +214,8 @@ class SampleStore {
   std::size_t slab_chunks_ = 64, used_ = 0;
 };
 
-// Fields are grouped by the passes that use them (a step reads every ray in order several times, so
-// the lines a ray spans are the sweep's main cost); cold fields last.
+// Fields are grouped by the passes that use them, so that a pass over the front touches few of a
+// ray's cache lines; cold fields last.
 struct alignas(64) Ray {
   // Motion and pose (pass A, tubes).
   RayState st{};
@@ -314,7 +314,7 @@ class TrainTracer {
     while (any_alive_ && !truncated_ && j <= last_step) {
       step(std::int32_t(j));
       ++stats_.steps;
-      if (j % 8 == 0) drop_inert_rays();
+      if (j % 8 == 0) drop_inert_rays();  // dead rays pile up slowly: a pass now and then keeps up
       ++j;
     }
     if (any_alive_) {
@@ -645,9 +645,8 @@ class TrainTracer {
     return false;
   }
 
-  // Passes over the wavefront, fused where nothing in between can change their result: each pass
-  // reads every ray's state (several cache lines), and the passes, not the arithmetic, are most of
-  // the sweep's cost.
+  // The passes over the wavefront, fused where nothing in between can change their result, so that a
+  // step visits each ray's state fewer times.
   void step(std::int32_t j) {
     step_ = j;
     const double phi_j = grid_phase(j);
