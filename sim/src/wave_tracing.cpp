@@ -221,6 +221,7 @@ struct alignas(64) Ray {
   RayState st{};
   double cos_t = 1.0, sin_t = 0.0;  // of st.theta
   LocalWave w{};                 // the wave at st
+  double clear = 0.0;            // m of path from st free of walls and the domain's edge (chord_event)
   // State on the wavefront (every pass).
   bool alive = true;             // not ended (pending rays are alive)
   bool entering = false;         // an initial ray that has not reached the domain: outside it, on a
@@ -572,22 +573,32 @@ class TrainTracer {
   // ---- stepping ----
 
   // Where along the chord a -> b (0..1) the ray meets a wall, the domain's edge or the shoreline
-  // (depth h_min), whichever comes first; > 1 if none.
-  double chord_event(const RayState& a, const RayState& b, double depth_b, Stop& why, std::uint32_t& wall) const noexcept {
+  // (depth h_min), whichever comes first; > 1 if none. `clear` is a path length from a within which
+  // the ray can meet neither a wall nor the domain's edge, kept up to date here: most chords skip
+  // those tests.
+  double chord_event(const RayState& a, const RayState& b, double depth_b, double& clear, Stop& why,
+                     std::uint32_t& wall) const noexcept {
     double u = 2.0;
     why = Stop::none;
-    // Most chords are nowhere near a wall: one box test instead of one per capsule.
-    const bool near_walls = std::max(a.x, b.x) >= walls_box_.x_min && std::min(a.x, b.x) <= walls_box_.x_max &&
-                            std::max(a.y, b.y) >= walls_box_.y_min && std::min(a.y, b.y) <= walls_box_.y_max;
-    if (near_walls) {
-      const WallHit hit = first_wall_hit(capsules_, a.x, a.y, b.x, b.y);
-      if (hit.hit) u = hit.u, why = Stop::wall, wall = hit.wall;
-    }
-    const Domain& d = scene_.domain;
-    if (b.x < d.x_min || b.x > d.x_max || b.y < d.y_min || b.y > d.y_max) {
-      double t0 = 0.0, t1 = 0.0;
-      const double ex = clip_line(d, a.x, a.y, b.x - a.x, b.y - a.y, t0, t1) ? std::clamp(t1, 0.0, 1.0) : 0.0;
-      if (ex < u) u = ex, why = Stop::domain;
+    // The path length is at least the chord's (RK4 sums the same positive weights for both).
+    const double travel = b.s - a.s;
+    if (travel < clear) {
+      clear -= travel;
+    } else {
+      // Most chords are nowhere near a wall: one box test instead of one per capsule.
+      const bool near_walls = std::max(a.x, b.x) >= walls_box_.x_min && std::min(a.x, b.x) <= walls_box_.x_max &&
+                              std::max(a.y, b.y) >= walls_box_.y_min && std::min(a.y, b.y) <= walls_box_.y_max;
+      if (near_walls) {
+        const WallHit hit = first_wall_hit(capsules_, a.x, a.y, b.x, b.y);
+        if (hit.hit) u = hit.u, why = Stop::wall, wall = hit.wall;
+      }
+      const Domain& d = scene_.domain;
+      if (b.x < d.x_min || b.x > d.x_max || b.y < d.y_min || b.y > d.y_max) {
+        double t0 = 0.0, t1 = 0.0;
+        const double ex = clip_line(d, a.x, a.y, b.x - a.x, b.y - a.y, t0, t1) ? std::clamp(t1, 0.0, 1.0) : 0.0;
+        if (ex < u) u = ex, why = Stop::domain;
+      }
+      clear = clearance(b.x, b.y);
     }
     if (depth_b <= h_min_) {
       // Bisection on the chord for depth = h_min (the floor is continuous).
@@ -602,13 +613,28 @@ class TrainTracer {
     return u;
   }
 
+  // A lower bound on the distance from (x, y) to the domain's edge and to every wall (their box, by
+  // the Chebyshev distance), less a margin for rounding; 0 outside the domain or inside the box.
+  double clearance(double x, double y) const noexcept {
+    const Domain& d = scene_.domain;
+    double c = std::min(std::min(x - d.x_min, d.x_max - x), std::min(y - d.y_min, d.y_max - y));
+    if (!capsules_.empty()) {
+      const double dx = std::max(std::max(walls_box_.x_min - x, x - walls_box_.x_max), 0.0);
+      const double dy = std::max(std::max(walls_box_.y_min - y, y - walls_box_.y_max), 0.0);
+      c = std::min(c, std::max(dx, dy));
+    }
+    return std::max(0.0, c * (1.0 - 1e-9) - 1e-9);
+  }
+
   // Moves ray `id` on by dphi. If it meets a wall, the domain's edge or the shoreline it stops there,
   // is flagged dead with the reason, and false is returned. Amplitudes are the caller's business.
   bool move_ray(std::int32_t id, double dphi) {
     Ray& r = rays_[std::size_t(id)];
     Stop why = Stop::none;
     std::uint32_t wall = 0;
-    auto stop = [&](const RayState& a, const RayState& b, double depth_b) { return chord_event(a, b, depth_b, why, wall); };
+    auto stop = [&](const RayState& a, const RayState& b, double depth_b) {
+      return chord_event(a, b, depth_b, r.clear, why, wall);
+    };
     const bool ended = advance(medium_, r.st, r.w, dphi, r.cos_t, r.sin_t, stop);
     if (!medium_.uniform) r.sync_direction();  // straight rays keep theta
     if (!ended) return true;
