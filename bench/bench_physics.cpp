@@ -6,8 +6,9 @@
 // - diffraction coefficient: the exact Sommerfeld field against the paper's Larras fit (as printed
 //   and corrected) and the float A&S Fresnel path, per evaluation: how much the exact solution
 //   costs over the (much less accurate, see diffraction.hpp) fits.
-// - DWT scene build: trace_wave_field for the paper's Fig. 4 scene and the built-in coast, 1 and 2
-//   threads, with the tracer's own stats as counters (the paper: 125 diffracted rays, < 5 s on a
+// - DWT scene build: trace_wave_field for the paper's Fig. 4 scene, the built-in coast and its swell
+//   alone (one train: what the second thread does within a train), 1 and 2 threads, with the
+//   tracer's own stats as counters (the paper: 125 diffracted rays, < 5 s on a
 //   180 MHz R5000), SeaSurface::build (the per-scene resampling) at each preset's sea_cell, and
 //   SeaSurface::eval per sample (height + gradient of the traced sea, the retessellation's kernel).
 // - the DWT accuracy knob: Fig. 4 with step x insertion distance, samples and rays as counters:
@@ -167,11 +168,20 @@ void bm_sommerfeld_field_fg(benchmark::State& state) {
 
 // ---- DWT scene build ---------------------------------------------------------------------------------
 
-enum class SceneId { fig4, coast };
-const char* scene_name(SceneId s) { return s == SceneId::fig4 ? "paper_fig4" : "builtin_coast"; }
+// coast_swell: the coast's first train alone, one large front of curving rays (what one train does
+// with a second thread).
+enum class SceneId { fig4, coast, coast_swell };
+const char* scene_name(SceneId s) {
+  return s == SceneId::fig4 ? "paper_fig4" : s == SceneId::coast ? "builtin_coast" : "builtin_coast_swell";
+}
 const houle::Scene& scene(SceneId s) {
   static const houle::Scene fig4 = houle::paper_fig4(), coast = houle::builtin_coast();
-  return s == SceneId::fig4 ? fig4 : coast;
+  static const houle::Scene swell = [] {
+    houle::Scene c = houle::builtin_coast();
+    c.trains.resize(1);
+    return c;
+  }();
+  return s == SceneId::fig4 ? fig4 : s == SceneId::coast ? coast : swell;
 }
 
 void set_dwt_counters(benchmark::State& state, const houle::DwtStats& s) {
@@ -181,6 +191,7 @@ void set_dwt_counters(benchmark::State& state, const houle::DwtStats& s) {
   state.counters["samples"] = double(s.samples);
   state.counters["fans"] = double(s.fans);
   state.counters["truncated"] = s.truncated ? 1.0 : 0.0;
+  state.counters["shared_steps"] = double(s.shared_steps);
   state.counters["samples_per_s"] =
       benchmark::Counter(double(s.samples) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
@@ -307,7 +318,7 @@ const bool registered = [] {
   benchmark::RegisterBenchmark("sommerfeld_field/double", bm_sommerfeld_field);
   benchmark::RegisterBenchmark("sommerfeld_field_fg/float", bm_sommerfeld_field_fg);
 
-  for (SceneId id : {SceneId::fig4, SceneId::coast}) {
+  for (SceneId id : {SceneId::fig4, SceneId::coast, SceneId::coast_swell}) {
     benchmark::RegisterBenchmark(("trace_wave_field/" + std::string(scene_name(id))).c_str(), bm_trace, id)
         ->ArgName("threads")
         ->Arg(1)

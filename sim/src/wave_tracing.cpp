@@ -2,8 +2,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
-#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
@@ -13,6 +13,7 @@
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/wave_rays.hpp"
+#include "helper_lane.hpp"
 #include "ray_step.hpp"
 #include "ray_walls.hpp"
 #include "sommerfeld_tabulated.hpp"
@@ -26,6 +27,11 @@ constexpr double two_pi = 2.0 * std::numbers::pi;
 constexpr double inf = std::numeric_limits<double>::infinity();
 constexpr double fan_spacing = pi / 8.0;   // rad between a fan's first rays (refined by insertion)
 constexpr int max_insertion_passes = 16;   // per step; each pass halves the widest tube
+// A front this large shares pass A between two lanes where rays curve: a curved step (RK4 with
+// depth lookups, a few thousand instructions) far outweighs moving the ray's state between cores and
+// back, which a straight step (a few dozen) does not (Fig. 4: 8.0 ms on one lane, 10.3 ms on two).
+constexpr std::size_t shared_pass_min_rays = 64;
+constexpr std::size_t shared_chunk_rays = 16;  // what a lane takes at a time
 
 // ---- The train's entry front, shared by dwt_bound and the tracer -------------------------------
 
@@ -214,6 +220,16 @@ class SampleStore {
   std::size_t slab_chunks_ = 64, used_ = 0;
 };
 
+// What the worker of a pass writes besides the rays and pairs it owns.
+struct Lane {
+  SampleStore samples;
+  DwtStats stats{};
+  std::size_t wall_rays = 0;  // rays flagged hit_wall
+  double widest = 0.0;        // the largest pair_sigma_ of a real pair on this wavefront
+  bool any_alive = false;
+  bool truncated = false;
+};
+
 // Fields are grouped by the passes that use them, so that a pass over the front touches few of a
 // ray's cache lines; cold fields last.
 struct alignas(64) Ray {
@@ -277,58 +293,126 @@ struct Fan {
 
 enum class Stop : std::uint8_t { none, wall, domain, shore };
 
+// Where a ray ended, if it ended on a wall with samples and is not DIFFRACTED (only such ends seed a
+// reflected wave): its last sample, with its final amplitude.
+struct RayEnd {
+  bool on_wall = false;
+  double x = 0.0, y = 0.0, theta = 0.0, phase = 0.0, time = 0.0, amplitude = 0.0;
+};
+
+// The same from a train's output.
+std::vector<RayEnd> ray_ends(const WaveRays& in) {
+  std::vector<RayEnd> ends(in.ray_count());
+  for (std::size_t q = 0; q < in.ray_count(); ++q) {
+    const std::size_t end = in.sample_begin[q + 1];
+    if (!(in.flags[q] & ray_flag::hit_wall) || (in.flags[q] & ray_flag::diffracted) || end == in.sample_begin[q]) continue;
+    const std::size_t s = end - 1;
+    ends[q] = RayEnd{true, in.x[s], in.y[s], in.theta[s], in.phase[s], in.time[s], in.amplitude[s]};
+  }
+  return ends;
+}
+
 class TrainTracer {
  public:
-  // The incident train, from its entry front.
-  TrainTracer(const Scene& scene, std::size_t train, const DwtSettings& set)
-      : scene_(scene), set_(set), floor_(scene.floor), train_(scene.trains[train]) {
+  // The incident train, from its entry front, on `lanes` threads (1 or 2).
+  TrainTracer(const Scene& scene, std::size_t train, const DwtSettings& set, unsigned lanes)
+      : scene_(scene), set_(set), floor_(scene.floor), train_index_(train), train_(scene.trains[train]), lanes_(lanes) {
     init_medium();
     front_ = make_front(scene, train, set, medium_);
     if (set.diffraction) sites_ = pierhead_sites(scene, floor_, h_min_);
     site_used_.assign(sites_.size(), false);
     sites_left_ = sites_.size();
   }
-  // The train's reflected wave, seeded where `incident`'s rays ended on reflecting walls.
-  TrainTracer(const Scene& scene, std::size_t train, const DwtSettings& set, const WaveRays& incident)
-      : scene_(scene), set_(set), floor_(scene.floor), train_(scene.trains[train]) {
+  // The train's reflected wave, seeded where its rays ended on reflecting walls (ray_ends(), with the
+  // incident wave's omega, direction of entry and phase step).
+  TrainTracer(const Scene& scene, std::size_t train, const DwtSettings& set, const std::vector<RayEnd>& ends, double omega,
+              double dx, double dy, double dphi, unsigned lanes)
+      : scene_(scene), set_(set), floor_(scene.floor), train_index_(train), train_(scene.trains[train]), lanes_(lanes) {
     init_medium();
     reflected_ = true;
-    front_ = reflected_front(incident);
+    front_ = reflected_front(ends, omega, dx, dy, dphi);
   }
 
   WaveRays run(DwtStats& stats) {
-    WaveRays out;
-    out.omega = medium_.omega;
-    out.direction_x = front_.dx;
-    out.direction_y = front_.dy;
-    out.amplitude0 = train_.amplitude;
-    out.phase_step = front_.dphi;
-    out.min_depth = h_min_;
-    if (!(front_.dphi > 0.0)) return finish(out, stats);  // the whole front is on land
+    sweep();
+    return finish(stats);
+  }
 
-    samples_.reserve(std::min<std::size_t>(set_.max_samples, estimate_samples()));
+  // run(), and the wave reflected where this one's rays ended (trace_reflection of its result).
+  // Where that wave's sweep would not share its steps anyway (uniform water), it is traced on the
+  // helper while this one's samples are gathered.
+  WaveRays run_reflecting(DwtStats& stats, WaveRays& reflected, DwtStats& reflected_stats) {
+    sweep();
+    const std::vector<RayEnd> ends = ray_ends();
+    auto reflect = [&](unsigned lanes) {
+      TrainTracer r(scene_, train_index_, set_, ends, medium_.omega, front_.dx, front_.dy, front_.dphi, lanes);
+      reflected = r.run(reflected_stats);
+      reflected_stats.reflected_rays = reflected_stats.rays;
+    };
+    WaveRays out;
+    if (lanes_ > 1 && medium_.uniform) {
+      if (!helper_) helper_ = std::make_unique<HelperLane>();
+      auto task = [&](int, std::uint32_t c) { c == 0 ? reflect(1) : void(out = finish(stats)); };
+      helper_->for_chunks(2, task);
+    } else {
+      out = finish(stats);
+      reflect(lanes_);
+    }
+    return out;
+  }
+
+  // Where every ray ended, in output order (after the sweep): what a reflected wave starts from.
+  std::vector<RayEnd> ray_ends() {
+    std::vector<RayEnd> ends(order_.size());
+    for (std::size_t i = 0; i < order_.size(); ++i) {
+      Ray& r = rays_[std::size_t(order_[i])];
+      if (!(r.flags & ray_flag::hit_wall) || (r.flags & ray_flag::diffracted) || r.samples.count == 0) continue;
+      StagedSample& s = r.samples.last->at[(r.samples.count - 1) % SampleChunk::size];
+      double a = s.amplitude;
+      if (s.flags & sample_flag::diffraction) {
+        // As apply_diffraction will have it: exact K' at the end of a run (kept for it).
+        if (std::isnan(s.k_exact)) s.k_exact = k_factor(main_, r.family, s.x, s.y, s.phase);
+        a = std::min(a * s.k_exact, s.a_break);
+      }
+      ends[i] = RayEnd{true, s.x, s.y, s.theta, s.phase, s.time, a};
+    }
+    return ends;
+  }
+
+ private:
+  // The train's rays, all ended, in order_ as they will be output.
+  void sweep() {
+    if (!(front_.dphi > 0.0)) return;  // the whole front is on land
+    main_.samples.reserve(std::min<std::size_t>(set_.max_samples, estimate_samples()));
+    if (lanes_ > 1) side_.samples.reserve(std::min<std::size_t>(set_.max_samples, estimate_samples()) / 2);
     rays_.reserve(std::min<std::size_t>(set_.max_rays, 4 * front_.entries.size() + 64));
 
     start_front();
     std::int64_t j = first_step_;
     const std::int64_t last_step = first_step_ + std::int64_t(path_max_ * max_k() / front_.dphi) + 2;
-    while (any_alive_ && !truncated_ && j <= last_step) {
+    while (main_.any_alive && !main_.truncated && j <= last_step) {
       step(std::int32_t(j));
-      ++stats_.steps;
+      ++main_.stats.steps;
       if (j % 8 == 0) drop_inert_rays();  // dead rays pile up slowly: a pass now and then keeps up
       ++j;
     }
-    if (any_alive_) {
+    if (main_.any_alive) {
       // A cap stopped the sweep: whatever is still running ends here.
-      truncated_ = true;
+      main_.truncated = true;
       for (Ray& r : rays_) {
         if (r.alive) r.alive = false, r.flags |= ray_flag::dead | ray_flag::truncated;
       }
     }
-    return finish(out, stats);
+    // The dropped rays back in place.
+    merged_.clear();
+    for (std::int32_t id : order_) {
+      merged_.push_back(id);
+      for (std::int32_t d = rays_[std::size_t(id)].dropped_first; d >= 0; d = rays_[std::size_t(d)].dropped_next) {
+        merged_.push_back(d);
+      }
+    }
+    order_.swap(merged_);
   }
-
- private:
   // ---- setup ----
 
   void init_medium() {
@@ -351,36 +435,34 @@ class TrainTracer {
   // wall's normal there, with amplitude alpha A and the incident phase and time (phase continuous).
   // A cut (an entry on "land": a dead ray with no samples) separates seeds whose incident rays were
   // not neighbours on the same wall, so no tube joins them.
-  Front reflected_front(const WaveRays& in) const {
+  Front reflected_front(const std::vector<RayEnd>& ends, double omega, double dx, double dy, double dphi) const {
     Front f;
-    f.omega = in.omega;
-    f.k0 = deep_water_wavenumber(in.omega);
+    f.omega = omega;
+    f.k0 = deep_water_wavenumber(omega);
     f.l0 = two_pi / f.k0;
-    f.dx = in.direction_x;
-    f.dy = in.direction_y;
+    f.dx = dx;
+    f.dy = dy;
     f.h_min = h_min_;
-    f.dphi = in.phase_step;
-    f.k_ref = in.phase_step / set_.step;
+    f.dphi = dphi;
+    f.k_ref = dphi / set_.step;
     std::int64_t previous_wall = -1;  // wall of the last seed, -1 after a cut
-    for (std::size_t q = in.ray_count(); q-- > 0;) {
-      const std::size_t end = in.sample_begin[q + 1];
-      const bool hit = (in.flags[q] & ray_flag::hit_wall) && !(in.flags[q] & ray_flag::diffracted) && end > in.sample_begin[q];
+    for (std::size_t q = ends.size(); q-- > 0;) {
+      const RayEnd& end = ends[q];
       std::uint32_t wall = 0;
       Entry e;
       double nx = 0.0, ny = 0.0;
-      if (hit) {
-        const std::size_t s = end - 1;
-        e.x = in.x[s];
-        e.y = in.y[s];
-        e.water = wall_of(e.x, e.y, wall) && scene_.walls[wall].reflection > 0.0 && in.amplitude[s] > 0.0 &&
+      if (end.on_wall) {
+        e.x = end.x;
+        e.y = end.y;
+        e.water = wall_of(e.x, e.y, wall) && scene_.walls[wall].reflection > 0.0 && end.amplitude > 0.0 &&
                   wall_normal(capsules_, wall, e.x, e.y, nx, ny);
         if (e.water) {
-          const double dx = std::cos(in.theta[s]), dy = std::sin(in.theta[s]);
-          const double dn = dx * nx + dy * ny;
-          e.theta = std::atan2(dy - 2.0 * dn * ny, dx - 2.0 * dn * nx);
-          e.phi = in.phase[s];
-          e.tau = in.time[s];
-          e.amplitude = scene_.walls[wall].reflection * in.amplitude[s];
+          const double tx = std::cos(end.theta), ty = std::sin(end.theta);
+          const double dn = tx * nx + ty * ny;
+          e.theta = std::atan2(ty - 2.0 * dn * ny, tx - 2.0 * dn * nx);
+          e.phi = end.phase;
+          e.tau = end.time;
+          e.amplitude = scene_.walls[wall].reflection * end.amplitude;
           e.wave = wave_at(medium_, e.x, e.y);
         }
       }
@@ -427,13 +509,13 @@ class TrainTracer {
       rays_.emplace_back();
       Ray& r = rays_.back();
       order_.push_back(id);
-      ++stats_.initial_rays;
-      ++stats_.rays;
+      ++main_.stats.initial_rays;
+      ++main_.stats.rays;
       if (!e.water) {
         // Enters on land (or separates two walls' reflections): a cut in the front, with no samples.
         r.alive = false;
         r.flags = reflected_ ? ray_flag::dead : ray_flag::dead | ray_flag::reached_shore;
-        if (!reflected_) ++stats_.reached_shore;
+        if (!reflected_) ++main_.stats.reached_shore;
         continue;
       }
       r.st = RayState{e.x, e.y, e.theta, e.phi, 0.0, e.tau};
@@ -443,10 +525,10 @@ class TrainTracer {
       r.a_geo = e.amplitude;
       r.cg_prev = r.w.cg;
       r.entering = true;
-      any_alive_ = true;
+      main_.any_alive = true;
       first_step_ = std::min(first_step_, grid_step_at_or_after(e.phi));
-      write_sample(id, r.st, r.w, on_grid(e.phi) ? std::uint8_t(0) : sample_flag::off_grid);
-      finalize(id);
+      write_sample(main_, id, r.st, r.w, on_grid(e.phi) ? std::uint8_t(0) : sample_flag::off_grid);
+      finalize(main_, id);
     }
     if (first_step_ == std::numeric_limits<std::int64_t>::max()) first_step_ = 0;
   }
@@ -462,17 +544,18 @@ class TrainTracer {
 
   // ---- samples ----
 
-  void write_sample(std::int32_t id, const RayState& st, const LocalWave& w, std::uint8_t flags) {
+  // On a shared pass, step() has made sure that the cap is not reached (side_ counts from 0).
+  void write_sample(Lane& lane, std::int32_t id, const RayState& st, const LocalWave& w, std::uint8_t flags) {
     Ray& r = rays_[std::size_t(id)];
-    if (stats_.samples >= set_.max_samples) {
-      truncated_ = true;
+    if (lane.stats.samples >= set_.max_samples) {
+      lane.truncated = true;
       r.latest = nullptr;
       return;
     }
-    r.latest = &samples_.append(r.samples);
+    r.latest = &lane.samples.append(r.samples);
     *r.latest = StagedSample{st.x, st.y, st.theta, w.k, 0.0, st.phi, st.tau, 0.0,
                              std::numeric_limits<double>::quiet_NaN(), flags};
-    ++stats_.samples;
+    ++lane.stats.samples;
   }
 
   // Does an undiffracted sample at (x, y) lie in some fan's lit-side band?
@@ -498,7 +581,7 @@ class TrainTracer {
   }
 
   // K' at a sample of a ray of `family` (-1: undiffracted) with phase phi.
-  double k_factor(std::int32_t family, double x, double y, double phi) {
+  double k_factor(Lane& lane, std::int32_t family, double x, double y, double phi) {
     if (family >= 0) {
       const Fan& f = fans_[std::size_t(family)];
       const BreakwaterPolar p = breakwater_polar(f.frame, x, y);
@@ -506,7 +589,7 @@ class TrainTracer {
       const double r_over_l = std::max(0.0, (phi - f.phi_m) / two_pi);
       // A sample exactly on the structure's line can only be on its lee face (fans start there).
       const double theta = p.kind == BreakwaterPointKind::on_structure ? two_pi : p.theta;
-      ++stats_.diffraction_evaluations;
+      ++lane.stats.diffraction_evaluations;
       return coefficient(set_.diffraction_model, r_over_l, theta, f.theta0, f.site.reflection);
     }
     double K = 1.0;
@@ -519,7 +602,7 @@ class TrainTracer {
       if (p.theta > pi + f.theta0) continue;  // not this pierhead's lit side
       const double v = f.v_scale * std::sqrt(p.r) * std::cos(0.5 * (p.theta - f.theta0));
       if (v >= band_end) continue;
-      ++stats_.diffraction_evaluations;
+      ++lane.stats.diffraction_evaluations;
       const double kf = coefficient(set_.diffraction_model, p.r_over_L, p.theta, f.theta0, 0.0);
       const double t = std::clamp((v - band_start) / (band_end - band_start), 0.0, 1.0);
       K *= kf + (1.0 - kf) * (t * t * (3.0 - 2.0 * t));
@@ -539,7 +622,7 @@ class TrainTracer {
   // applies, the caps use K' from the ray's last knot (exact K' is computed when that is more than a
   // knot spacing back); the sample keeps a_geo and its limit, and gets interpolated K' and the caps
   // again after the sweep (apply_diffraction).
-  void finalize(std::int32_t id) {
+  void finalize(Lane& lane, std::int32_t id) {
     Ray& r = rays_[std::size_t(id)];
     if (!r.latest) return;  // the sample cap refused it
     StagedSample& c = *r.latest;
@@ -550,7 +633,7 @@ class TrainTracer {
     if (diffracts) {
       c.flags |= sample_flag::diffraction;
       if (!r.has_knot || r.st.s - r.knot_s >= r.knot_gap || r.st.s < r.knot_s) {
-        r.knot_k = k_factor(r.family, x, y, c.phase);
+        r.knot_k = k_factor(lane, r.family, x, y, c.phase);
         r.knot_s = r.st.s;
         r.knot_gap = knot_spacing(r.family, x, y, r.w.k);
         r.has_knot = true;
@@ -563,7 +646,7 @@ class TrainTracer {
       a = a_break;
       if (K > 0.0) r.a_geo = a_break / K;
       c.flags |= sample_flag::broken;
-      if (!(r.flags & ray_flag::broken)) ++stats_.broken_rays;
+      if (!(r.flags & ray_flag::broken)) ++lane.stats.broken_rays;
       r.flags |= ray_flag::broken;
     }
     c.amplitude = diffracts ? r.a_geo : a;
@@ -628,7 +711,7 @@ class TrainTracer {
 
   // Moves ray `id` on by dphi. If it meets a wall, the domain's edge or the shoreline it stops there,
   // is flagged dead with the reason, and false is returned. Amplitudes are the caller's business.
-  bool move_ray(std::int32_t id, double dphi) {
+  bool move_ray(Lane& lane, std::int32_t id, double dphi) {
     Ray& r = rays_[std::size_t(id)];
     Stop why = Stop::none;
     std::uint32_t wall = 0;
@@ -642,32 +725,32 @@ class TrainTracer {
     r.flags |= ray_flag::dead;
     if (why == Stop::wall) {
       r.flags |= ray_flag::hit_wall;
-      ++wall_rays_;
+      ++lane.wall_rays;
       r.wall = wall;
       r.hit_x = r.st.x;
       r.hit_y = r.st.y;
-      ++stats_.wall_hits;
+      ++lane.stats.wall_hits;
     } else if (why == Stop::domain) {
       r.flags |= ray_flag::left_domain;
-      ++stats_.left_domain;
+      ++lane.stats.left_domain;
     } else {
       r.flags |= ray_flag::reached_shore;
-      ++stats_.reached_shore;
+      ++lane.stats.reached_shore;
     }
     return false;
   }
 
   // move_ray within the sweep: a ray that ends gets its end point as an off-grid sample, shoaled over
   // the partial step, its tube widening as over the last full step (in proportion to the phase).
-  bool advance_ray(std::int32_t id, double dphi) {
+  bool advance_ray(Lane& lane, std::int32_t id, double dphi) {
     const double phi0 = rays_[std::size_t(id)].st.phi;
-    if (move_ray(id, dphi)) return true;
+    if (move_ray(lane, id, dphi)) return true;
     Ray& r = rays_[std::size_t(id)];
     const double u = std::clamp((r.st.phi - phi0) / front_.dphi, 0.0, 1.0);
     r.a_geo *= std::sqrt(r.cg_prev / r.w.cg * std::pow(r.width_ratio, u));
     const std::uint8_t crossed = (r.flags & ray_flag::crossed) ? sample_flag::crossed : std::uint8_t(0);
-    write_sample(id, r.st, r.w, std::uint8_t(sample_flag::off_grid | crossed));
-    finalize(id);
+    write_sample(lane, id, r.st, r.w, std::uint8_t(sample_flag::off_grid | crossed));
+    finalize(lane, id);
     return false;
   }
 
@@ -676,24 +759,38 @@ class TrainTracer {
   void step(std::int32_t j) {
     step_ = j;
     const double phi_j = grid_phase(j);
-    any_alive_ = false;
-    // A: advance every live ray to this wavefront, and measure each pair once both are there.
+    main_.any_alive = false;
+    // A: advance every live ray to this wavefront, and measure each pair once both are there. On a
+    // large front of curving rays two lanes share the chunks of order_, unless the sample cap could
+    // be reached on this step (where the rays refused would depend on the lanes' timing); the pairs
+    // across chunks are measured after.
     begin_tubes();
-    Pose pa{}, pb{};
-    bool has_a = false;
-    for (std::size_t i = 0; i < order_.size(); ++i) {
-      advance_on_step(order_[i], j);
-      const bool has_b = pose_on_step(rays_[std::size_t(order_[i])], phi_j, pb);
-      if (i > 0 && has_a && has_b) measure_pair(i - 1, pa, pb);
-      pa = pb;
-      has_a = has_b;
+    const std::size_t n = order_.size();
+    if (lanes_ > 1 && !medium_.uniform && n >= shared_pass_min_rays && main_.stats.samples + n <= set_.max_samples) {
+      if (!helper_) helper_ = std::make_unique<HelperLane>();
+      const std::size_t chunk = std::max(shared_chunk_rays, n / 60000 + 1);  // fewer than 65536 chunks
+      auto task = [&](int lane, std::uint32_t c) {
+        const std::size_t lo = c * chunk;
+        advance_front(lane == 0 ? main_ : side_, j, lo, std::min(n, lo + chunk));
+      };
+      helper_->for_chunks(std::uint32_t((n + chunk - 1) / chunk), task);
+      for (std::size_t i = chunk; i < n; i += chunk) {
+        Pose pa{}, pb{};
+        if (pose_on_step(rays_[std::size_t(order_[i - 1])], phi_j, pa) && pose_on_step(rays_[std::size_t(order_[i])], phi_j, pb)) {
+          measure_pair(main_, i - 1, pa, pb);
+        }
+      }
+      merge_side_lane();
+      ++main_.stats.shared_steps;
+    } else {
+      advance_front(main_, j, 0, n);
     }
-    if (truncated_) return;
+    if (main_.truncated) return;
     // B: fans at pierheads the front has just passed (each site spawns once); they change order_.
-    if (sites_left_ > 0 && wall_rays_ > 0 && spawn_fans(j)) measure_tubes();  // a fan needs a ray that ended on a wall
+    if (sites_left_ > 0 && main_.wall_rays > 0 && spawn_fans(j)) measure_tubes();  // a fan needs a ray that ended on a wall
     // C: tubes, caustics and amplitudes on this wavefront. Without insertion (D) the tubes of E are
     // those of C, and E rides along.
-    const bool inserts = widest_real_ > set_.insertion_distance;
+    const bool inserts = main_.widest > set_.insertion_distance;
     update_amplitudes(!inserts);
     if (!inserts) return;
     // D: insertion where live neighbours are too far apart.
@@ -702,14 +799,40 @@ class TrainTracer {
     for (std::size_t i = 0; i < order_.size(); ++i) record_tube(i);
   }
 
-  void advance_on_step(std::int32_t id, std::int32_t j) {
+  // Pass A over order_[lo, hi).
+  void advance_front(Lane& lane, std::int32_t j, std::size_t lo, std::size_t hi) {
+    const double phi_j = grid_phase(j);
+    Pose pa{}, pb{};
+    bool has_a = false;
+    for (std::size_t i = lo; i < hi; ++i) {
+      advance_on_step(lane, order_[i], j);
+      const bool has_b = pose_on_step(rays_[std::size_t(order_[i])], phi_j, pb);
+      if (i > lo && has_a && has_b) measure_pair(lane, i - 1, pa, pb);
+      pa = pb;
+      has_a = has_b;
+    }
+  }
+
+  void merge_side_lane() {
+    main_.stats += side_.stats;
+    main_.wall_rays += side_.wall_rays;
+    main_.widest = std::max(main_.widest, side_.widest);
+    main_.any_alive = main_.any_alive || side_.any_alive;
+    main_.truncated = main_.truncated || side_.truncated;
+    side_.stats = DwtStats{};
+    side_.wall_rays = 0;
+    side_.widest = 0.0;
+    side_.any_alive = side_.truncated = false;
+  }
+
+  void advance_on_step(Lane& lane, std::int32_t id, std::int32_t j) {
     const double phi_j = grid_phase(j);
     Ray& r = rays_[std::size_t(id)];
     r.joined_now = false;
     r.fresh = false;
     r.crossed_with = -1;
     if (!r.alive) return;
-    any_alive_ = true;
+    lane.any_alive = true;
     r.a_prev = r.a_geo;
     r.cg_prev = r.w.cg;
     double dphi = front_.dphi;
@@ -721,16 +844,16 @@ class TrainTracer {
       if (r.st.phi == phi_j) return;  // its start sample is on this step already
       dphi = phi_j - r.st.phi;
     }
-    if (!advance_ray(id, dphi)) return;
+    if (!advance_ray(lane, id, dphi)) return;
     Ray& q = rays_[std::size_t(id)];
     q.st.phi = phi_j;
     if (q.st.s > path_max_) {
       q.alive = false;
       q.flags |= ray_flag::dead | ray_flag::truncated;
-      truncated_ = true;
+      lane.truncated = true;
       return;
     }
-    write_sample(id, q.st, q.w, (q.flags & ray_flag::crossed) ? sample_flag::crossed : std::uint8_t(0));
+    write_sample(lane, id, q.st, q.w, (q.flags & ray_flag::crossed) ? sample_flag::crossed : std::uint8_t(0));
   }
 
   bool live_on_step(const Ray& r) const noexcept { return r.alive && r.joined; }
@@ -815,7 +938,7 @@ class TrainTracer {
     bool has_a = n > 0 && pose_on_step(rays_[std::size_t(order_[0])], phi_j, pa);
     for (std::size_t i = 0; i + 1 < n; ++i) {
       const bool has_b = pose_on_step(rays_[std::size_t(order_[i + 1])], phi_j, pb);
-      if (has_a && has_b) measure_pair(i, pa, pb);
+      if (has_a && has_b) measure_pair(main_, i, pa, pb);
       pa = pb;
       has_a = has_b;
     }
@@ -827,17 +950,17 @@ class TrainTracer {
     pair_sigma_.assign(n, std::numeric_limits<double>::quiet_NaN());
     pair_width_.assign(n, 0.0);
     pair_real_.assign(n, 0);
-    widest_real_ = 0.0;
+    main_.widest = 0.0;
   }
 
   // Pair (i, i + 1), whose rays have poses pa and pb on this wavefront.
-  void measure_pair(std::size_t i, const Pose& pa, const Pose& pb) {
+  void measure_pair(Lane& lane, std::size_t i, const Pose& pa, const Pose& pb) {
     const Ray& a = rays_[std::size_t(order_[i])];
     const Ray& b = rays_[std::size_t(order_[i + 1])];
     pair_sigma_[i] = spacing(pa, pb);
     pair_width_[i] = tube_width(a.family, pa, pb, pair_sigma_[i]);
     pair_real_[i] = live_on_step(a) && live_on_step(b);
-    if (pair_real_[i]) widest_real_ = std::max(widest_real_, pair_sigma_[i]);
+    if (pair_real_[i]) lane.widest = std::max(lane.widest, pair_sigma_[i]);
   }
 
   // Tubes, caustics and amplitudes on this wavefront in one pass: pair (i, i + 1) is classified just
@@ -862,7 +985,7 @@ class TrainTracer {
         // Caustic cap: Kr <= Kr_max (physics.md 2.5, cap 2).
         r.a_geo = std::min(r.a_geo, set_.max_refraction_coefficient * train_.amplitude * r.w.ks);
         if ((left.crossed || right.crossed) && r.latest) r.latest->flags |= sample_flag::crossed;
-        finalize(id);
+        finalize(main_, id);
       }
       if (record) record_tube(i);
       left = right;
@@ -882,7 +1005,7 @@ class TrainTracer {
     if (persisted) {
       if (!a.tube_crossed && a.tube_sigma > 0.0 && sigma <= 0.0) {
         // Neighbours swapped sides: a caustic between them (physics.md 2.5).
-        ++stats_.crossings;
+        ++main_.stats.crossings;
         a.flags |= ray_flag::crossed;
         b.flags |= ray_flag::crossed;
       }
@@ -970,14 +1093,14 @@ class TrainTracer {
     fans_.push_back(f);
     site_used_[s] = true;
     --sites_left_;
-    ++stats_.fans;
+    ++main_.stats.fans;
 
     const int n = std::max(1, int(std::ceil(span / fan_spacing)));
     std::vector<std::int32_t> ids;
     for (int i = 0; i <= n; ++i) {
       if (rays_.size() >= set_.max_rays) {
-        ++stats_.insertions_refused;
-        truncated_ = true;
+        ++main_.stats.insertions_refused;
+        main_.truncated = true;
         break;
       }
       const double psi = b.st.theta + side * span * double(i) / double(n);
@@ -996,8 +1119,8 @@ class TrainTracer {
     const Fan f = fans_[std::size_t(fan)];
     const std::int32_t id = std::int32_t(rays_.size());
     rays_.emplace_back();
-    ++stats_.rays;
-    ++stats_.diffracted_rays;
+    ++main_.stats.rays;
+    ++main_.stats.diffracted_rays;
     {
       Ray& r = rays_.back();
       r.family = fan;
@@ -1020,7 +1143,7 @@ class TrainTracer {
     const std::int64_t j_next = start_on_grid ? j_start + 1 : j_start;  // first step to move to
     bool alive = true;
     for (std::int64_t jj = j_next; jj <= j; ++jj) {
-      if (!move_ray(id, grid_phase(jj) - rays_[std::size_t(id)].st.phi)) {
+      if (!move_ray(main_, id, grid_phase(jj) - rays_[std::size_t(id)].st.phi)) {
         alive = false;
         catch_.push_back(CatchUp{rays_[std::size_t(id)].st, rays_[std::size_t(id)].w, sample_flag::off_grid});
         break;
@@ -1047,8 +1170,8 @@ class TrainTracer {
       r.st = c.st;  // finalize() reads the ray's state at the sample
       r.w = c.w;
       r.a_geo = std::min(a, set_.max_refraction_coefficient * train_.amplitude * c.w.ks);
-      write_sample(id, c.st, c.w, c.flags);
-      finalize(id);
+      write_sample(main_, id, c.st, c.w, c.flags);
+      finalize(main_, id);
       a = r.a_geo;  // breaking may have dissipated some
     }
     r.st = catch_.back().st;
@@ -1058,7 +1181,7 @@ class TrainTracer {
     r.cg_prev = r.w.cg;
     r.alive = alive;
     if (!alive) return id;
-    any_alive_ = true;
+    main_.any_alive = true;
     if (reached_j) {
       // On this wavefront already, complete: joins the tubes from the next step.
       r.joined = true;
@@ -1092,7 +1215,7 @@ class TrainTracer {
   // One pass over the wavefront: a ray between every sound live pair farther apart than b_max.
   bool insert_rays(std::int32_t j) {
     const double b_max = set_.insertion_distance;
-    if (!(widest_real_ > b_max)) return false;
+    if (!(main_.widest > b_max)) return false;
     for (std::size_t i = 0; i + 1 < order_.size(); ++i) {
       if (!pair_real_[i] || !(pair_sigma_[i] > b_max)) continue;  // not two live rays, or close enough
       const std::int32_t ia = order_[i], ib = order_[i + 1];
@@ -1100,8 +1223,8 @@ class TrainTracer {
       const Ray& b = rays_[std::size_t(ib)];
       if (a.crossed_with == ib) continue;  // never between crossed rays (physics.md 2.4)
       if (rays_.size() >= set_.max_rays) {
-        ++stats_.insertions_refused;
-        truncated_ = true;
+        ++main_.stats.insertions_refused;
+        main_.truncated = true;
         continue;
       }
       std::int32_t id;
@@ -1113,7 +1236,7 @@ class TrainTracer {
       } else {
         id = insert_midpoint(ia, ib, j);
       }
-      ++stats_.inserted_rays;
+      ++main_.stats.inserted_rays;
       pending_.push_back(Pending{i, {id}});
     }
     if (pending_.empty()) return false;
@@ -1126,7 +1249,7 @@ class TrainTracer {
   std::int32_t insert_midpoint(std::int32_t ia, std::int32_t ib, std::int32_t j) {
     const std::int32_t id = std::int32_t(rays_.size());
     rays_.emplace_back();
-    ++stats_.rays;
+    ++main_.stats.rays;
     Ray& r = rays_.back();
     const Ray& a = rays_[std::size_t(ia)];
     const Ray& b = rays_[std::size_t(ib)];
@@ -1148,16 +1271,16 @@ class TrainTracer {
       r.alive = false;
       r.joined = false;
       r.flags |= ray_flag::dead | (in_wall ? ray_flag::hit_wall : ray_flag::reached_shore);
-      if (in_wall) ++wall_rays_;
+      if (in_wall) ++main_.wall_rays;
       return id;
     }
     r.w = wave_at(medium_, x, y);
     r.a_geo = 0.5 * (a.a_geo + b.a_geo);
     r.a_prev = r.a_geo;
     r.cg_prev = r.w.cg;
-    write_sample(id, r.st, r.w, 0);
-    finalize(id);
-    any_alive_ = true;
+    write_sample(main_, id, r.st, r.w, 0);
+    finalize(main_, id);
+    main_.any_alive = true;
     return id;
   }
 
@@ -1190,16 +1313,14 @@ class TrainTracer {
 
   // ---- output ----
 
-  WaveRays finish(WaveRays& out, DwtStats& stats) {
-    // The output order: order_ with the dropped rays back in place.
-    merged_.clear();
-    for (std::int32_t id : order_) {
-      merged_.push_back(id);
-      for (std::int32_t d = rays_[std::size_t(id)].dropped_first; d >= 0; d = rays_[std::size_t(d)].dropped_next) {
-        merged_.push_back(d);
-      }
-    }
-    order_.swap(merged_);
+  WaveRays finish(DwtStats& stats) {
+    WaveRays out;
+    out.omega = medium_.omega;
+    out.direction_x = front_.dx;
+    out.direction_y = front_.dy;
+    out.amplitude0 = train_.amplitude;
+    out.phase_step = front_.dphi;
+    out.min_depth = h_min_;
     const std::size_t nr = order_.size();
     std::vector<std::int32_t> rank(rays_.size(), -1);
     for (std::size_t i = 0; i < nr; ++i) rank[std::size_t(order_[i])] = std::int32_t(i);
@@ -1278,9 +1399,9 @@ class TrainTracer {
     for (const Fan& f : fans_) {
       out.pierheads.push_back(WaveRays::Pierhead{f.site.x, f.site.y, f.ox, f.oy, f.site.wall, f.phi_m, f.a_m, f.wave_m.k});
     }
-    stats_.truncated = stats_.truncated || truncated_;
-    stats = stats_;
-    return std::move(out);
+    main_.stats.truncated = main_.stats.truncated || main_.truncated;
+    stats = main_.stats;
+    return out;
   }
 
   // K' for one ray's samples that carry a diffraction coefficient (they hold a_geo): exact at the
@@ -1300,7 +1421,7 @@ class TrainTracer {
       while (run_end < end && (out.sample_flags[run_end] & sample_flag::diffraction)) ++run_end;
       for (std::size_t e : {i, run_end - 1}) {
         double& K = k_exact(e);
-        if (std::isnan(K)) K = k_factor(family, out.x[e], out.y[e], out.phase[e]);
+        if (std::isnan(K)) K = k_factor(main_, family, out.x[e], out.y[e], out.phase[e]);
       }
       std::size_t last = i;
       double path = 0.0, path_last = 0.0;
@@ -1344,7 +1465,9 @@ class TrainTracer {
   const Scene& scene_;
   const DwtSettings& set_;
   Bathymetry floor_;
+  std::size_t train_index_ = 0;
   const WaveTrain& train_;
+  unsigned lanes_ = 1;
   double h_min_ = 0.0, path_max_ = 0.0;
   Medium medium_{};
   Front front_{};
@@ -1353,7 +1476,6 @@ class TrainTracer {
   std::vector<PierheadSite> sites_;
   std::vector<bool> site_used_;
   std::size_t sites_left_ = 0;  // sites that have not spawned their fan yet
-  std::size_t wall_rays_ = 0;   // rays flagged hit_wall so far
   std::vector<Fan> fans_;
   std::vector<Ray> rays_;
   std::vector<std::int32_t> order_, merged_;
@@ -1362,14 +1484,12 @@ class TrainTracer {
   std::int32_t step_ = 0;  // the wavefront being processed
   std::vector<double> pair_sigma_, pair_width_;
   std::vector<std::uint8_t> pair_real_;
-  double widest_real_ = 0.0;  // the largest pair_sigma_ of a real pair
-  SampleStore samples_;
+  Lane main_;  // the sweep's own
+  Lane side_;  // the helper's, merged into main_ after each shared pass
+  std::unique_ptr<HelperLane> helper_;  // with two lanes, on a large enough front
   std::vector<double> k_scratch_, a_scratch_;  // finish(): one ray's k_exact and a_break
   std::vector<double> path_scratch_;            // apply_diffraction(): path lengths along a run
-  DwtStats stats_{};
   std::int64_t first_step_ = 0;
-  bool any_alive_ = false;
-  bool truncated_ = false;
   bool reflected_ = false;  // tracing a reflected wave (seeded on walls, not from the entry front)
 };
 
@@ -1377,6 +1497,23 @@ Expected<Scene> checked(const Scene& scene, const DwtSettings& settings) {
   Scene copy = scene;
   copy.dwt = settings;
   return validate(std::move(copy));
+}
+
+// Effect plan: straight crests, analytic phase, no rays.
+WaveRays analytic_rays(const Scene& scene, std::size_t train) {
+  WaveRays out;
+  const WaveTrain& t = scene.trains[train];
+  out.omega = train_omega(t);
+  const Point2 d = train_direction(t);
+  out.direction_x = d.x;
+  out.direction_y = d.y;
+  out.amplitude0 = t.amplitude;
+  out.analytic = true;
+  const Bathymetry floor(scene.floor);
+  const LinearWave w = linear_wave(out.omega, floor.uniform() ? scene.floor.base.depth : 1e9);
+  out.analytic_k = w.k;
+  out.analytic_amplitude = t.amplitude * shoaling_coefficient(w.kh);
+  return out;
 }
 
 // The same, and `train` must be one of its trains.
@@ -1406,6 +1543,7 @@ DwtStats& DwtStats::operator+=(const DwtStats& o) noexcept {
   reached_shore += o.reached_shore;
   reflected_rays += o.reflected_rays;
   insertions_refused += o.insertions_refused;
+  shared_steps += o.shared_steps;
   truncated = truncated || o.truncated;
   return *this;
 }
@@ -1453,34 +1591,20 @@ DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& set
   return b;
 }
 
-Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtSettings& settings, DwtStats* stats) {
+Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtSettings& settings, DwtStats* stats,
+                               unsigned threads) {
   auto valid = detail::checked(scene, settings, train);
   if (!valid.ok()) return valid.error();
   DwtStats local;
   DwtStats& st = stats ? *stats : local;
   st = DwtStats{};
-  if (settings.analytic_shortcut && !train_needs_rays(scene, train)) {
-    // Effect plan: straight crests, analytic phase, no rays.
-    WaveRays out;
-    const WaveTrain& t = scene.trains[train];
-    out.omega = train_omega(t);
-    const Point2 d = train_direction(t);
-    out.direction_x = d.x;
-    out.direction_y = d.y;
-    out.amplitude0 = t.amplitude;
-    out.analytic = true;
-    const Bathymetry floor(scene.floor);
-    const LinearWave w = linear_wave(out.omega, floor.uniform() ? scene.floor.base.depth : 1e9);
-    out.analytic_k = w.k;
-    out.analytic_amplitude = t.amplitude * shoaling_coefficient(w.kh);
-    return out;
-  }
-  detail::TrainTracer tracer(valid.value(), train, valid->dwt);
+  if (settings.analytic_shortcut && !train_needs_rays(scene, train)) return detail::analytic_rays(scene, train);
+  detail::TrainTracer tracer(valid.value(), train, valid->dwt, std::clamp(threads, 1u, 2u));
   return tracer.run(st);
 }
 
 Expected<WaveRays> trace_reflection(const Scene& scene, std::size_t train, const WaveRays& incident,
-                                    const DwtSettings& settings, DwtStats* stats) {
+                                    const DwtSettings& settings, DwtStats* stats, unsigned threads) {
   auto valid = detail::checked(scene, settings, train);
   if (!valid.ok()) return valid.error();
   DwtStats local;
@@ -1494,7 +1618,8 @@ Expected<WaveRays> trace_reflection(const Scene& scene, std::size_t train, const
   none.phase_step = incident.phase_step;
   none.min_depth = incident.min_depth;
   if (!valid->dwt.reflection || incident.analytic || !scene_has_reflecting_walls(valid.value())) return none;
-  detail::TrainTracer tracer(valid.value(), train, valid->dwt, incident);
+  detail::TrainTracer tracer(valid.value(), train, valid->dwt, detail::ray_ends(incident), incident.omega, incident.direction_x,
+                             incident.direction_y, incident.phase_step, std::clamp(threads, 1u, 2u));
   WaveRays out = tracer.run(st);
   st.reflected_rays = st.rays;
   return out;
@@ -1507,16 +1632,24 @@ Expected<WaveField> trace_wave_field(const Scene& scene, unsigned threads) {
 Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& settings, unsigned threads) {
   auto valid = detail::checked(scene, settings);
   if (!valid.ok()) return valid.error();
-  const std::size_t n = scene.trains.size();
-  std::vector<std::optional<Expected<WaveRays>>> results(n), reflected(n);
+  const Scene& s = valid.value();
+  const std::size_t n = s.trains.size();
+  std::vector<WaveRays> incident(n), reflected(n);
   std::vector<DwtStats> stats(n), reflected_stats(n);
+  const std::size_t workers = std::min<std::size_t>(std::max(1u, threads), n);
+  const unsigned lanes = workers > 0 ? std::clamp(threads / unsigned(workers), 1u, 2u) : 1u;
+  const bool reflects = s.dwt.reflection && scene_has_reflecting_walls(s);
+  // Each train as trace_train, then trace_reflection, would trace it.
   auto work = [&](std::size_t first, std::size_t step) {
     for (std::size_t i = first; i < n; i += step) {
-      results[i].emplace(trace_train(valid.value(), i, settings, &stats[i]));
-      if (results[i]->ok()) reflected[i].emplace(trace_reflection(valid.value(), i, results[i]->value(), settings, &reflected_stats[i]));
+      if (s.dwt.analytic_shortcut && !train_needs_rays(s, i)) {
+        incident[i] = detail::analytic_rays(s, i);
+        continue;
+      }
+      detail::TrainTracer tracer(s, i, s.dwt, lanes);
+      incident[i] = reflects ? tracer.run_reflecting(stats[i], reflected[i], reflected_stats[i]) : tracer.run(stats[i]);
     }
   };
-  const std::size_t workers = std::min<std::size_t>(std::max(1u, threads), n);
   if (workers <= 1) {
     work(0, 1);
   } else {
@@ -1529,12 +1662,10 @@ Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& sett
   }
   WaveField field;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!results[i]->ok()) return results[i]->error();
-    if (!reflected[i]->ok()) return reflected[i]->error();
-    field.trains.push_back(std::move(*results[i]).value());
+    field.trains.push_back(std::move(incident[i]));
     field.stats += stats[i];
-    if (reflected[i]->value().sample_count() > 0) {
-      field.reflections.push_back(ReflectedWave{i, std::move(*reflected[i]).value()});
+    if (reflected[i].sample_count() > 0) {
+      field.reflections.push_back(ReflectedWave{i, std::move(reflected[i])});
       field.stats += reflected_stats[i];
     }
   }

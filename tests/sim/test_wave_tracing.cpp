@@ -512,6 +512,52 @@ TEST(WaveTracing, DeterministicAcrossRunsAndThreadCounts) {
   expect_identical(a, b);
 }
 
+TEST(WaveTracing, OneTrainOnTwoThreadsIsBitIdentical) {
+  // One train of the coast: its rays curve over the floor and the front is large, so steps share
+  // their rays between two threads.
+  Scene swell = houle::builtin_coast();
+  swell.trains.resize(1);
+  houle::DwtStats one_stats, two_stats, reflected_stats;
+  const auto one = houle::trace_train(swell, 0, swell.dwt, &one_stats, 1);
+  const auto two = houle::trace_train(swell, 0, swell.dwt, &two_stats, 2);
+  ASSERT_TRUE(one.ok() && two.ok());
+  EXPECT_EQ(one_stats.shared_steps, 0u);
+  EXPECT_GT(two_stats.shared_steps, two_stats.steps / 2);
+  expect_identical(one.value(), two.value());
+  EXPECT_EQ(one_stats.samples, two_stats.samples);
+  EXPECT_EQ(one_stats.diffraction_evaluations, two_stats.diffraction_evaluations);
+  EXPECT_EQ(one_stats.wall_hits, two_stats.wall_hits);
+  EXPECT_EQ(one_stats.broken_rays, two_stats.broken_rays);
+  // Its reflection too, and the field (which traces the reflection from the sweep's own ends).
+  const auto reflected = houle::trace_reflection(swell, 0, one.value(), swell.dwt, &reflected_stats, 2);
+  ASSERT_TRUE(reflected.ok());
+  EXPECT_GT(reflected_stats.shared_steps, 0u);
+  const auto field = houle::trace_wave_field(swell, 2);
+  ASSERT_TRUE(field.ok());
+  ASSERT_EQ(field->reflections.size(), 1u);
+  expect_identical(field->trains[0], one.value());
+  expect_identical(field->reflections[0].rays, reflected.value());
+}
+
+TEST(WaveTracing, StraightRaysDoNotShareSteps) {
+  // Fig. 4's flat bottom: a straight step costs less than moving a ray between cores, so the second
+  // thread traces the reflected wave while the incident samples are gathered instead.
+  const Scene fig4 = houle::paper_fig4();
+  const auto one = houle::trace_wave_field(fig4, 1);
+  const auto two = houle::trace_wave_field(fig4, 2);
+  ASSERT_TRUE(one.ok() && two.ok());
+  EXPECT_EQ(two->stats.shared_steps, 0u);
+  ASSERT_EQ(one->reflections.size(), 1u);
+  ASSERT_EQ(two->reflections.size(), 1u);
+  expect_identical(one->trains[0], two->trains[0]);
+  expect_identical(one->reflections[0].rays, two->reflections[0].rays);
+  EXPECT_EQ(one->stats.diffraction_evaluations, two->stats.diffraction_evaluations);
+  // As trace_reflection gives it from the incident output.
+  const auto reflected = houle::trace_reflection(fig4, 0, one->trains[0], fig4.dwt);
+  ASSERT_TRUE(reflected.ok());
+  expect_identical(two->reflections[0].rays, reflected.value());
+}
+
 // ---- Caps and bounds ----------------------------------------------------------------------------------
 
 TEST(WaveTracing, CapsBoundTheOutput) {

@@ -187,6 +187,7 @@ struct DwtStats {
   std::uint64_t wall_hits = 0, left_domain = 0, reached_shore = 0;
   std::uint64_t reflected_rays = 0;   ///< rays of reflected waves (included in `rays`)
   std::uint64_t insertions_refused = 0;  ///< wanted but refused at the max_rays cap
+  std::uint64_t shared_steps = 0;     ///< steps whose rays advanced on two threads (large fronts)
   bool truncated = false;             ///< a cap (max_rays, max_samples, path length) was reached
   DwtStats& operator+=(const DwtStats& o) noexcept;
 };
@@ -222,15 +223,19 @@ struct DwtBound {
 };
 DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& settings) noexcept;
 
-/// Traces train `train` of a valid scene (Error if the scene or settings are invalid).
-Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtSettings& settings, DwtStats* stats = nullptr);
+/// Traces train `train` of a valid scene (Error if the scene or settings are invalid). With
+/// `threads` >= 2, steps over a large front of curving rays (64 or more) advance on two threads; the
+/// result is bit-identical to one thread's.
+Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtSettings& settings, DwtStats* stats = nullptr,
+                               unsigned threads = 1);
 /// The reflected wave of train `train` from its traced rays `incident` (trace_train's result with
 /// the same settings): no rays when nothing hit a reflecting wall, or reflection is off. Stats count
-/// its rays as reflected_rays.
+/// its rays as reflected_rays. `threads` as for trace_train.
 Expected<WaveRays> trace_reflection(const Scene& scene, std::size_t train, const WaveRays& incident,
-                                    const DwtSettings& settings, DwtStats* stats = nullptr);
+                                    const DwtSettings& settings, DwtStats* stats = nullptr, unsigned threads = 1);
 /// Traces every train with scene.dwt (or the given settings), then its reflection. `threads` > 1
-/// traces trains in parallel; the result is bit-identical for any thread count.
+/// traces trains in parallel, and gives a train the threads left over (one train on two threads
+/// uses both, as trace_train); the result is bit-identical for any thread count.
 Expected<WaveField> trace_wave_field(const Scene& scene, unsigned threads = 1);
 Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& settings, unsigned threads = 1);
 
