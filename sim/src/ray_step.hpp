@@ -37,6 +37,9 @@ struct Medium {
   double h_eval_min = 0.0;
   bool uniform = false;        ///< flat floor: rays are straight, k constant
   LocalWave uniform_wave{};
+  /// Uniform floor: the sweep's phase step and its path and travel time (dphi / k, ds / Cg), so that
+  /// a full step needs no division.
+  double step_dphi = 0.0, step_ds = 0.0, step_dtau = 0.0;
   double ds_max = std::numeric_limits<double>::infinity();  ///< m, longest sub-step
   double max_turn = 0.05;      ///< rad, largest turn per sub-step
 };
@@ -145,20 +148,24 @@ template <class Stop>
 template <class Stop>
 bool advance(const Medium& m, RayState& st, LocalWave& w, double dphi, double cos_t, double sin_t, Stop&& stop) {
   if (!m.uniform) return advance_curved(m, st, w, dphi, stop);
-  // Straight line at constant k: exact.
-  RayState next = st;
-  const double ds = dphi / w.k;
-  next.x += cos_t * ds;
-  next.y += sin_t * ds;
-  next.phi += dphi;
-  next.s += ds;
-  next.tau += ds / w.cg;
+  // Straight line at constant k: exact. The end is copied field by field from scalars: copying the
+  // struct `next` (built on the stack for `stop`) made GCC reload it in 16-byte halves that straddle
+  // its 8-byte stores, a failed store forward on every step (a tenth of a Fig. 4 trace).
+  const bool full = dphi == m.step_dphi;  // w is m.uniform_wave
+  const double ds = full ? m.step_ds : dphi / w.k;
+  const double x = st.x + cos_t * ds, y = st.y + sin_t * ds, phi = st.phi + dphi, s = st.s + ds;
+  const double tau = st.tau + (full ? m.step_dtau : ds / w.cg);
+  const RayState next{x, y, st.theta, phi, s, tau};
   const double u = stop(st, next, w.depth);
   if (u <= 1.0) {
     st = lerp(st, next, u);
     return true;
   }
-  st = next;
+  st.x = x;
+  st.y = y;
+  st.phi = phi;
+  st.s = s;
+  st.tau = tau;
   return false;
 }
 

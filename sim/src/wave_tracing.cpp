@@ -319,6 +319,7 @@ class TrainTracer {
       : scene_(scene), set_(set), floor_(scene.floor), train_index_(train), train_(scene.trains[train]), lanes_(lanes) {
     init_medium();
     front_ = make_front(scene, train, set, medium_);
+    set_step(front_.dphi);
     if (set.diffraction) sites_ = pierhead_sites(scene, floor_, h_min_);
     site_used_.assign(sites_.size(), false);
     sites_left_ = sites_.size();
@@ -331,6 +332,7 @@ class TrainTracer {
     init_medium();
     reflected_ = true;
     front_ = reflected_front(ends, omega, dx, dy, dphi);
+    set_step(dphi);
   }
 
   WaveRays run(DwtStats& stats) {
@@ -428,6 +430,13 @@ class TrainTracer {
       walls_box_.y_max = std::max(walls_box_.y_max, std::max(c.ay, c.by) + c.radius);
     }
     path_max_ = path_limit(scene_.domain);
+  }
+
+  void set_step(double dphi) noexcept {
+    if (!medium_.uniform) return;
+    medium_.step_dphi = dphi;
+    medium_.step_ds = dphi / medium_.uniform_wave.k;
+    medium_.step_dtau = medium_.step_ds / medium_.uniform_wave.cg;
   }
 
   // Seeds of the reflected wave: the end points of `incident`'s undiffracted rays that hit a wall
@@ -661,10 +670,18 @@ class TrainTracer {
   // those tests.
   double chord_event(const RayState& a, const RayState& b, double depth_b, double& clear, Stop& why,
                      std::uint32_t& wall) const noexcept {
-    double u = 2.0;
     why = Stop::none;
     // The path length is at least the chord's (RK4 sums the same positive weights for both).
     const double travel = b.s - a.s;
+    if (travel < clear && depth_b > h_min_) {
+      clear -= travel;  // most chords: inline, the rest out of line
+      return 2.0;
+    }
+    return chord_event_near(a, b, depth_b, travel, clear, why, wall);
+  }
+  [[gnu::noinline]] double chord_event_near(const RayState& a, const RayState& b, double depth_b, double travel,
+                                            double& clear, Stop& why, std::uint32_t& wall) const noexcept {
+    double u = 2.0;
     if (travel < clear) {
       clear -= travel;
     } else {
@@ -799,18 +816,12 @@ class TrainTracer {
     for (std::size_t i = 0; i < order_.size(); ++i) record_tube(i);
   }
 
-  // Pass A over order_[lo, hi).
+  // Pass A over order_[lo, hi). The pairs are measured in a loop of their own, whose iterations are
+  // independent: the long sqrt and division of each spacing then overlap (within one loop with the
+  // advance they were on the critical path of every ray).
   void advance_front(Lane& lane, std::int32_t j, std::size_t lo, std::size_t hi) {
-    const double phi_j = grid_phase(j);
-    Pose pa{}, pb{};
-    bool has_a = false;
-    for (std::size_t i = lo; i < hi; ++i) {
-      advance_on_step(lane, order_[i], j);
-      const bool has_b = pose_on_step(rays_[std::size_t(order_[i])], phi_j, pb);
-      if (i > lo && has_a && has_b) measure_pair(lane, i - 1, pa, pb);
-      pa = pb;
-      has_a = has_b;
-    }
+    for (std::size_t i = lo; i < hi; ++i) advance_on_step(lane, order_[i], j);
+    measure_pairs(lane, lo, hi);
   }
 
   void merge_side_lane() {
@@ -931,14 +942,19 @@ class TrainTracer {
   // Spacing and tube width of every neighbour pair in order_ that has a pose on this wavefront (NaN
   // otherwise); pair_real_ marks pairs of two live rays (only those may insert or be tessellated).
   void measure_tubes() {
-    const std::size_t n = order_.size();
-    const double phi_j = grid_phase(step_);
     begin_tubes();
+    measure_pairs(main_, 0, order_.size());
+  }
+
+  // The pairs within order_[lo, hi).
+  void measure_pairs(Lane& lane, std::size_t lo, std::size_t hi) {
+    if (lo >= hi) return;
+    const double phi_j = grid_phase(step_);
     Pose pa{}, pb{};
-    bool has_a = n > 0 && pose_on_step(rays_[std::size_t(order_[0])], phi_j, pa);
-    for (std::size_t i = 0; i + 1 < n; ++i) {
-      const bool has_b = pose_on_step(rays_[std::size_t(order_[i + 1])], phi_j, pb);
-      if (has_a && has_b) measure_pair(main_, i, pa, pb);
+    bool has_a = pose_on_step(rays_[std::size_t(order_[lo])], phi_j, pa);
+    for (std::size_t i = lo + 1; i < hi; ++i) {
+      const bool has_b = pose_on_step(rays_[std::size_t(order_[i])], phi_j, pb);
+      if (has_a && has_b) measure_pair(lane, i - 1, pa, pb);
       pa = pb;
       has_a = has_b;
     }

@@ -54,6 +54,30 @@ TEST(BulkMemory, BlockLivesWithItsLastOwner) {
   EXPECT_EQ(v[(1 << 20) - 1], (1 << 20) - 1);
 }
 
+#if defined(__linux__) && !defined(__SANITIZE_ADDRESS__)
+// A freed huge-page block is kept and handed to the next block of about its size (a rebuilt scene
+// writes to pages already there); release_cached() gives the kept pages back.
+TEST(BulkMemory, FreedHugeBlocksAreReusedUntilReleased) {
+  houle::BulkLayout::release_cached();
+  houle::BulkLayout layout;
+  layout.add<double>(std::size_t(1) << 19);  // 4 MiB
+  std::byte* first = nullptr;
+  {
+    const auto block = layout.allocate();
+    first = block.get();
+  }
+  {
+    const auto block = layout.allocate();
+    EXPECT_EQ(block.get(), first);
+  }
+  // Not for a block of less than half its size: it would hold on to too much memory.
+  houle::BulkLayout small;
+  small.add<double>(std::size_t(1) << 17);  // 1 MiB
+  EXPECT_NE(small.allocate().get(), first);
+  houle::BulkLayout::release_cached();
+}
+#endif
+
 #if defined(__SANITIZE_ADDRESS__)
 // Under AddressSanitizer (the asan stage) the gap after an array is poisoned: reading one element
 // past a 10-double array, still inside the block, is reported.
