@@ -7,9 +7,9 @@
 //   and corrected) and the float A&S Fresnel path, per evaluation: how much the exact solution
 //   costs over the (much less accurate, see diffraction.hpp) fits.
 // - DWT scene build: trace_wave_field for the paper's Fig. 4 scene, the built-in coast and its swell
-//   alone (one train: what the second thread does within a train), 1 and 2 threads, with the
-//   tracer's own stats as counters (the paper: 125 diffracted rays, < 5 s on a
-//   180 MHz R5000), SeaSurface::build (the per-scene resampling) at each preset's sea_cell, and
+//   alone (one train: what the second thread does within a train), 1 and 2 threads (Fig. 4 also on
+//   fresh pages, as a process's first build), with the tracer's own stats as counters (the paper:
+//   125 diffracted rays, < 5 s on a 180 MHz R5000), SeaSurface::build (the per-scene resampling) at each preset's sea_cell, and
 //   SeaSurface::eval per sample (height + gradient of the traced sea, the retessellation's kernel).
 // - the DWT accuracy knob: Fig. 4 with step x insertion distance, samples and rays as counters:
 //   the trace's time against its resolution.
@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "houle/kernel/bulk_memory.hpp"
 #include "houle/kernel/isa.hpp"
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
@@ -196,11 +197,18 @@ void set_dwt_counters(benchmark::State& state, const houle::DwtStats& s) {
       benchmark::Counter(double(s.samples) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
-void bm_trace(benchmark::State& state, SceneId id) {
+// `cold`: every build on fresh pages, as the first in a process (the huge pages that earlier builds
+// freed are given back, untimed), rather than on the pages the previous build left.
+void bm_trace(benchmark::State& state, SceneId id, bool cold) {
   const houle::Scene& s = scene(id);
   const auto threads = unsigned(state.range(0));
   houle::DwtStats stats;
   for (auto _ : state) {
+    if (cold) {
+      state.PauseTiming();
+      houle::BulkLayout::release_cached();
+      state.ResumeTiming();
+    }
     houle::Expected<houle::WaveField> f = houle::trace_wave_field(s, threads);
     if (!f) {
       state.SkipWithError(f.error().message.c_str());
@@ -319,13 +327,19 @@ const bool registered = [] {
   benchmark::RegisterBenchmark("sommerfeld_field_fg/float", bm_sommerfeld_field_fg);
 
   for (SceneId id : {SceneId::fig4, SceneId::coast, SceneId::coast_swell}) {
-    benchmark::RegisterBenchmark(("trace_wave_field/" + std::string(scene_name(id))).c_str(), bm_trace, id)
+    benchmark::RegisterBenchmark(("trace_wave_field/" + std::string(scene_name(id))).c_str(), bm_trace, id, false)
         ->ArgName("threads")
         ->Arg(1)
         ->Arg(2)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }
+  benchmark::RegisterBenchmark("trace_wave_field_cold/paper_fig4", bm_trace, SceneId::fig4, true)
+      ->ArgName("threads")
+      ->Arg(1)
+      ->Arg(2)
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime();
   benchmark::RegisterBenchmark("trace_knob/paper_fig4", bm_trace_knob)
       ->ArgNames({"step_cm", "insert_cm"})
       ->ArgsProduct({{20, 40, 80}, {50, 100, 200}})

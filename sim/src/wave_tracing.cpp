@@ -201,6 +201,13 @@ class SampleStore {
       list.last = c;
     }
     ++list.count;
+    if (slot + 1 < SampleChunk::size) {
+      // The ray's next sample, written on the next step: its lines are fetched meanwhile (the
+      // hardware sees no stream in one sample per ray per step).
+      const auto* next = reinterpret_cast<const char*>(&list.last->at[slot + 1]);
+      __builtin_prefetch(next, 1);
+      __builtin_prefetch(next + sizeof(StagedSample) - 1, 1);
+    }
     return list.last->at[slot];
   }
 
@@ -259,9 +266,9 @@ struct alignas(64) Ray {
   // The last exact K' along this ray and where (path length s) it was computed.
   bool has_knot = false;
   double knot_k = 1.0, knot_s = 0.0, knot_gap = 0.0;
-  StagedSample* latest = nullptr;  // in samples_; null before the first (or if the cap refused it)
-  // Cold: samples stored, ends, lineage.
-  ChunkList samples;             // in samples_
+  StagedSample* latest = nullptr;  // in samples; null before the first (or if the cap refused it)
+  ChunkList samples;             // in a lane's SampleStore: appended to on every step
+  // Cold: ends, lineage.
   std::uint32_t wall = 0;        // the wall it hit (when hit_wall)
   double hit_x = 0.0, hit_y = 0.0;
   double theta0 = 0.0;           // direction at birth
@@ -820,8 +827,18 @@ class TrainTracer {
   // independent: the long sqrt and division of each spacing then overlap (within one loop with the
   // advance they were on the critical path of every ray).
   void advance_front(Lane& lane, std::int32_t j, std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) advance_on_step(lane, order_[i], j);
+    for (std::size_t i = lo; i < hi; ++i) {
+      if (i + 2 < hi) prefetch_ray(order_[i + 2]);
+      advance_on_step(lane, order_[i], j);
+    }
     measure_pairs(lane, lo, hi);
+  }
+
+  // order_ visits rays_ out of order, which the hardware cannot follow: the passes fetch a ray's
+  // lines two rays ahead.
+  void prefetch_ray(std::int32_t id) const noexcept {
+    const auto* p = reinterpret_cast<const char*>(&rays_[std::size_t(id)]);
+    for (std::size_t b = 0; b < sizeof(Ray); b += 64) __builtin_prefetch(p + b, 1);
   }
 
   void merge_side_lane() {
@@ -985,6 +1002,7 @@ class TrainTracer {
     const std::size_t n = order_.size();
     PairTube left{};
     for (std::size_t i = 0; i < n; ++i) {
+      if (i + 2 < n) prefetch_ray(order_[i + 2]);
       const PairTube right = i + 1 < n ? classify_pair(i) : PairTube{};
       const std::int32_t id = order_[i];
       Ray& r = rays_[std::size_t(id)];
