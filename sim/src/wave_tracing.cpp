@@ -29,7 +29,8 @@ constexpr double fan_spacing = pi / 8.0;   // rad between a fan's first rays (re
 constexpr int max_insertion_passes = 16;   // per step; each pass halves the widest tube
 // A front this large shares pass A between two lanes where rays curve: a curved step (RK4 with
 // depth lookups, a few thousand instructions) far outweighs moving the ray's state between cores and
-// back, which a straight step (a few dozen) does not (Fig. 4: 8.0 ms on one lane, 10.3 ms on two).
+// back, which a straight step (a few dozen) does not (Fig. 4 on two lanes: 8.1 ms shared, 5.9 ms
+// unshared).
 constexpr std::size_t shared_pass_min_rays = 64;
 constexpr std::size_t shared_chunk_rays = 16;  // what a lane takes at a time
 
@@ -300,8 +301,12 @@ struct Fan {
 
 enum class Stop : std::uint8_t { none, wall, domain, shore };
 
-// Where a ray ended, if it ended on a wall with samples and is not DIFFRACTED (only such ends seed a
-// reflected wave): its last sample, with its final amplitude.
+// Only rays that end on a wall, with samples, and are not DIFFRACTED seed a reflected wave.
+bool seeds_reflection(std::uint8_t flags, std::size_t samples) noexcept {
+  return (flags & ray_flag::hit_wall) && !(flags & ray_flag::diffracted) && samples > 0;
+}
+
+// Where a ray ended, if it seeds the reflected wave: its last sample, with its final amplitude.
 struct RayEnd {
   bool on_wall = false;
   double x = 0.0, y = 0.0, theta = 0.0, phase = 0.0, time = 0.0, amplitude = 0.0;
@@ -312,7 +317,7 @@ std::vector<RayEnd> ray_ends(const WaveRays& in) {
   std::vector<RayEnd> ends(in.ray_count());
   for (std::size_t q = 0; q < in.ray_count(); ++q) {
     const std::size_t end = in.sample_begin[q + 1];
-    if (!(in.flags[q] & ray_flag::hit_wall) || (in.flags[q] & ray_flag::diffracted) || end == in.sample_begin[q]) continue;
+    if (!seeds_reflection(in.flags[q], end - in.sample_begin[q])) continue;
     const std::size_t s = end - 1;
     ends[q] = RayEnd{true, in.x[s], in.y[s], in.theta[s], in.phase[s], in.time[s], in.amplitude[s]};
   }
@@ -366,7 +371,7 @@ class TrainTracer {
     std::vector<RayEnd> ends(order_.size());
     for (std::size_t i = 0; i < order_.size(); ++i) {
       Ray& r = rays_[std::size_t(order_[i])];
-      if (!(r.flags & ray_flag::hit_wall) || (r.flags & ray_flag::diffracted) || r.samples.count == 0) continue;
+      if (!seeds_reflection(r.flags, r.samples.count)) continue;
       StagedSample& s = r.samples.last->at[(r.samples.count - 1) % SampleChunk::size];
       double a = s.amplitude;
       if (s.flags & sample_flag::diffraction) {
