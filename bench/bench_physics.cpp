@@ -9,8 +9,9 @@
 // - DWT scene build: trace_wave_field for the paper's Fig. 4 scene, the built-in coast and its swell
 //   alone (one train: what the second thread does within a train), 1 and 2 threads (Fig. 4 also on
 //   fresh pages, as a process's first build), with the tracer's own stats as counters (the paper:
-//   125 diffracted rays, < 5 s on a 180 MHz R5000), SeaSurface::build (the per-scene resampling) at each preset's sea_cell, and
-//   SeaSurface::eval per sample (height + gradient of the traced sea, the retessellation's kernel).
+//   125 diffracted rays, < 5 s on a 180 MHz R5000), SeaSurface::build (the per-scene resampling) at
+//   each preset's sea_cell, and SeaSurface::eval per sample (height + gradient of the traced sea, the
+//   retessellation's kernel).
 // - the DWT accuracy knob: Fig. 4 with step x insertion distance, samples and rays as counters:
 //   the trace's time against its resolution.
 #include <benchmark/benchmark.h>

@@ -59,7 +59,8 @@ class MappingCache {
     const std::lock_guard<std::mutex> lock(mutex_);
     std::size_t best = kept_.size();
     for (std::size_t i = 0; i < kept_.size(); ++i) {
-      if (kept_[i].size >= size && kept_[i].size <= 2 * size && (best == kept_.size() || kept_[i].size < kept_[best].size)) best = i;
+      const bool fits = kept_[i].size >= size && kept_[i].size <= 2 * size;
+      if (fits && (best == kept_.size() || kept_[i].size < kept_[best].size)) best = i;
     }
     if (best == kept_.size()) return nullptr;
     const Mapping m = kept_[best];
