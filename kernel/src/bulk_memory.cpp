@@ -46,7 +46,7 @@ std::byte* map_huge(std::size_t size) {
 
 // Mappings freed by their last owner, kept for the next blocks: a build that follows another (a
 // rebuilt scene, a benchmark) then writes to pages that are already there, where fresh ones would
-// each be zeroed by the kernel on first touch (a sixth of a Fig. 4 trace). At most `limit` bytes are
+// each be zeroed by the kernel on first touch (14 % of a Fig. 4 trace). At most `limit` bytes are
 // kept; the oldest go first.
 class MappingCache {
  public:
