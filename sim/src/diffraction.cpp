@@ -186,7 +186,7 @@ cplx sommerfeld_term_unphased(double sqrt_4kr_over_pi, double psi) noexcept {
 double detail::sommerfeld_modulus_tabulated(double k_r, double theta, double theta0, double alpha) noexcept {
   const double s = std::sqrt(4.0 / pi * k_r);
   const cplx f = sommerfeld_term_unphased(s, theta - theta0) + alpha * sommerfeld_term_unphased(s, theta + theta0);
-  return std::sqrt(f.real() * f.real() + f.imag() * f.imag());  // |F| <= 2: no need for hypot's range care
+  return std::sqrt(f.real() * f.real() + f.imag() * f.imag());  // |F| <= 2.35: no need for hypot's range care
 }
 
 std::complex<float> sommerfeld_field_fg(double k_r, double theta, double theta0, float alpha) noexcept {

@@ -8,4 +8,8 @@ namespace houle::detail {
 /// times cheaper: the Fresnel part from fresnel_aux_tabulated.
 double sommerfeld_modulus_tabulated(double k_r, double theta, double theta0, double alpha) noexcept;
 
+/// An upper bound on the modulus of one Sommerfeld term (alpha = 0): the lit side's first fringe,
+/// 1.1705 (tests/sim/test_fresnel_integrals.cpp scans for it). With alpha, |F| <= bound (1 + alpha).
+inline constexpr double sommerfeld_term_bound = 1.171;
+
 }  // namespace houle::detail

@@ -161,11 +161,15 @@ double coefficient(DiffractionModel model, double r_over_l, double theta, double
 // is below band_end, blended to 1 from band_start.
 constexpr double band_start = 4.0, band_end = 8.0;
 
+// A knot whose exact K' is left to the gather (k_exact < 0 never holds a coefficient).
+constexpr double pending_knot = -1.0;
+bool knot_pending(double k_exact) noexcept { return !(k_exact >= 0.0); }  // NaN at run ends too
+
 // ---- The tracer --------------------------------------------------------------------------------
 
 // One sample as the sweep builds it. Samples with a diffraction coefficient hold a_geo in
-// `amplitude`, their breaking limit in a_break and, at knots, the exact K' in k_exact (NaN
-// elsewhere); K' is applied after the sweep.
+// `amplitude`, their breaking limit in a_break and, at knots, the exact K' in k_exact (pending_knot
+// until it is computed, NaN elsewhere); K' is applied after the sweep.
 struct StagedSample {
   double x, y, theta, k, amplitude, phase, time, a_break, k_exact;
   std::uint8_t flags;
@@ -236,6 +240,8 @@ struct Lane {
   double widest = 0.0;        // the largest pair_sigma_ of a real pair on this wavefront
   bool any_alive = false;
   bool truncated = false;
+  std::vector<double> k_scratch, a_scratch;  // gather(): one ray's k_exact and a_break
+  std::vector<double> path_scratch;           // apply_diffraction(): path lengths along a run
 };
 
 // Fields are grouped by the passes that use them, so that a pass over the front touches few of a
@@ -264,9 +270,11 @@ struct alignas(64) Ray {
   std::int32_t tube_next = -1;
   double tube_sigma = 0.0;       // perpendicular spacing, m
   double tube_b = 0.0;           // width used for amplitude (sigma, or sigma / d in a fan)
-  // The last exact K' along this ray and where (path length s) it was computed.
+  // The last knot along this ray, where (path length s) it lies and its K' (NaN while pending: then
+  // knot_sample holds it, to be computed in the gather unless a cap needs it first).
   bool has_knot = false;
   double knot_k = 1.0, knot_s = 0.0, knot_gap = 0.0;
+  StagedSample* knot_sample = nullptr;
   StagedSample* latest = nullptr;  // in samples; null before the first (or if the cap refused it)
   ChunkList samples;             // in a lane's SampleStore: appended to on every step
   // Cold: ends, lineage.
@@ -335,6 +343,14 @@ class TrainTracer {
     if (set.diffraction) sites_ = pierhead_sites(scene, floor_, h_min_);
     site_used_.assign(sites_.size(), false);
     sites_left_ = sites_.size();
+    if (set.diffraction_model == DiffractionModel::exact) {
+      // Where a_geo times this bound is within the breaking limit, no cap can bind and the sweep
+      // needs no K' (finalize). A fan's K' has two terms; a lit-band sample's is a product of one
+      // blend of a term towards 1 per fan.
+      double alpha = 0.0;
+      for (const Wall& w : scene.walls) alpha = std::max(alpha, w.reflection);
+      k_bound_ = std::max(sommerfeld_term_bound * (1.0 + alpha), std::pow(sommerfeld_term_bound, double(sites_.size())));
+    }
   }
   // The train's reflected wave, seeded where its rays ended on reflecting walls (ray_ends(), with the
   // incident wave's omega, direction of entry and phase step).
@@ -376,7 +392,7 @@ class TrainTracer {
       double a = s.amplitude;
       if (s.flags & sample_flag::diffraction) {
         // As apply_diffraction will have it: exact K' at the end of a run (kept for it).
-        if (std::isnan(s.k_exact)) s.k_exact = k_factor(main_, r.family, s.x, s.y, s.phase);
+        if (knot_pending(s.k_exact)) s.k_exact = k_factor(main_, r.family, s.x, s.y, s.phase);
         a = std::min(a * s.k_exact, s.a_break);
       }
       ends[i] = RayEnd{true, s.x, s.y, s.theta, s.phase, s.time, a};
@@ -631,9 +647,10 @@ class TrainTracer {
 
   // Amplitude of ray id's latest sample from its a_geo, then the breaking caps H <= gamma_b h and
   // H <= 0.142 L tanh kh (the excess is dissipated from a_geo). Where a diffraction coefficient
-  // applies, the caps use K' from the ray's last knot (exact K' is computed when that is more than a
-  // knot spacing back); the sample keeps a_geo and its limit, and gets interpolated K' and the caps
-  // again after the sweep (apply_diffraction).
+  // applies, the caps use K' from the ray's last knot (a new knot when that is more than a knot
+  // spacing back); the sample keeps a_geo and its limit, and gets interpolated K' and the caps
+  // again after the sweep (apply_diffraction). A knot's exact K' is computed here only if a cap
+  // could bind: otherwise the gather computes it, on both lanes when there are two.
   void finalize(Lane& lane, std::int32_t id) {
     Ray& r = rays_[std::size_t(id)];
     if (!r.latest) return;  // the sample cap refused it
@@ -645,11 +662,19 @@ class TrainTracer {
     if (diffracts) {
       c.flags |= sample_flag::diffraction;
       if (!r.has_knot || r.st.s - r.knot_s >= r.knot_gap || r.st.s < r.knot_s) {
-        r.knot_k = k_factor(lane, r.family, x, y, c.phase);
+        r.knot_k = std::numeric_limits<double>::quiet_NaN();
+        r.knot_sample = &c;
         r.knot_s = r.st.s;
         r.knot_gap = knot_spacing(r.family, x, y, r.w.k);
         r.has_knot = true;
-        c.k_exact = r.knot_k;
+        c.k_exact = pending_knot;
+      }
+      c.amplitude = r.a_geo;
+      c.a_break = a_break;
+      if (r.a_geo * k_bound_ <= a_break) return;  // no cap can bind, whatever K' is
+      if (std::isnan(r.knot_k)) {
+        StagedSample& knot = *r.knot_sample;
+        r.knot_k = knot.k_exact = k_factor(lane, r.family, knot.x, knot.y, knot.phase);
       }
       K = r.knot_k;
     }
@@ -1377,40 +1402,25 @@ class TrainTracer {
     out.time = {arrays[6], ns};
     out.sample_flags = {flags, ns};
     if (diffraction) out.diffraction = {coefficient, ns};
-    // Per ray, its chunks into the output block, front to back; K' is applied ray by ray on the way,
-    // from the ray's a_break and k_exact gathered into scratch.
-    for (std::size_t i = 0; i < nr; ++i) {
-      const Ray& r = rays_[std::size_t(order_[i])];
-      const std::size_t begin = out.sample_begin[i];
-      if (diffraction) k_scratch_.resize(r.samples.count), a_scratch_.resize(r.samples.count);
-      std::size_t t = begin;
-      for (const SampleChunk* c = r.samples.first; c; c = c->next) {
-        const SampleChunk& ch = *c;
-        const std::size_t n = std::min<std::size_t>(SampleChunk::size, out.sample_begin[i + 1] - t);
-        for (std::size_t q = 0; q < n; ++q) {
-          const StagedSample& s = ch.at[q];
-          arrays[0][t + q] = s.x;
-          arrays[1][t + q] = s.y;
-          arrays[2][t + q] = s.theta;
-          arrays[3][t + q] = s.k;
-          arrays[4][t + q] = s.amplitude;
-          arrays[5][t + q] = s.phase;
-          arrays[6][t + q] = s.time;
-          flags[t + q] = s.flags;
-        }
-        if (diffraction) {
-          for (std::size_t q = 0; q < n; ++q) {
-            k_scratch_[t - begin + q] = ch.at[q].k_exact;
-            a_scratch_[t - begin + q] = ch.at[q].a_break;
-          }
-        }
-        t += n;
+    // Per ray, its chunks into the output block, front to back, with K' applied ray by ray; on two
+    // lanes, runs of rays of about equal sample counts are taken from both ends (what a ray's
+    // output is does not depend on the lane that writes it).
+    const Gather g{arrays, flags, coefficient, diffraction};
+    if (lanes_ > 1 && nr > 1) {
+      constexpr std::size_t runs = 32;
+      std::vector<std::size_t> bound(runs + 1, nr);
+      bound[0] = 0;
+      for (std::size_t c = 1; c < runs; ++c) {
+        const std::uint32_t target = std::uint32_t(ns * c / runs);
+        bound[c] = std::size_t(std::lower_bound(out.sample_begin.begin(), out.sample_begin.end() - 1, target) - out.sample_begin.begin());
+        bound[c] = std::max(bound[c], bound[c - 1]);
       }
-      if (!diffraction) continue;
-      apply_diffraction(out, arrays[4], r.family, begin, out.sample_begin[i + 1]);
-      for (std::size_t q = begin; q < t; ++q) {
-        coefficient[q] = (flags[q] & sample_flag::diffraction) ? float(k_scratch_[q - begin]) : 1.0f;
-      }
+      if (!helper_) helper_ = std::make_unique<HelperLane>();
+      auto task = [&](int lane, std::uint32_t c) { gather(lane == 0 ? main_ : side_, out, g, bound[c], bound[c + 1]); };
+      helper_->for_chunks(std::uint32_t(runs), task);
+      merge_side_lane();
+    } else {
+      gather(main_, out, g, 0, nr);
     }
     out.sample_storage = std::move(block);
     out.first_step.resize(nr);
@@ -1434,13 +1444,60 @@ class TrainTracer {
     return out;
   }
 
+  // Where finish() writes the samples.
+  struct Gather {
+    double* const* arrays;  // x, y, theta, k, amplitude, phase, time
+    std::uint8_t* flags;
+    float* coefficient;     // K' (with diffraction)
+    bool diffraction;
+  };
+
+  // The staged samples of rays order_[lo, hi) into the output, K' applied.
+  void gather(Lane& lane, const WaveRays& out, const Gather& g, std::size_t lo, std::size_t hi) {
+    double* const* arrays = g.arrays;
+    for (std::size_t i = lo; i < hi; ++i) {
+      const Ray& r = rays_[std::size_t(order_[i])];
+      const std::size_t begin = out.sample_begin[i];
+      if (g.diffraction) lane.k_scratch.resize(r.samples.count), lane.a_scratch.resize(r.samples.count);
+      std::size_t t = begin;
+      for (const SampleChunk* c = r.samples.first; c; c = c->next) {
+        const SampleChunk& ch = *c;
+        const std::size_t n = std::min<std::size_t>(SampleChunk::size, out.sample_begin[i + 1] - t);
+        for (std::size_t q = 0; q < n; ++q) {
+          const StagedSample& s = ch.at[q];
+          arrays[0][t + q] = s.x;
+          arrays[1][t + q] = s.y;
+          arrays[2][t + q] = s.theta;
+          arrays[3][t + q] = s.k;
+          arrays[4][t + q] = s.amplitude;
+          arrays[5][t + q] = s.phase;
+          arrays[6][t + q] = s.time;
+          g.flags[t + q] = s.flags;
+        }
+        if (g.diffraction) {
+          for (std::size_t q = 0; q < n; ++q) {
+            lane.k_scratch[t - begin + q] = ch.at[q].k_exact;
+            lane.a_scratch[t - begin + q] = ch.at[q].a_break;
+          }
+        }
+        t += n;
+      }
+      if (!g.diffraction) continue;
+      apply_diffraction(lane, out, arrays[4], r.family, begin, out.sample_begin[i + 1]);
+      for (std::size_t q = begin; q < t; ++q) {
+        g.coefficient[q] = (g.flags[q] & sample_flag::diffraction) ? float(lane.k_scratch[q - begin]) : 1.0f;
+      }
+    }
+  }
+
   // K' for one ray's samples that carry a diffraction coefficient (they hold a_geo): exact at the
   // knots the sweep left (and at both ends of each run of such samples), linear in path length in
   // between; then the breaking cap once more, so H <= gamma_b h holds whatever the interpolation did.
-  // `out` holds the samples in ray order (its amplitudes are `amplitude`); k_scratch_ and a_scratch_
-  // hold the ray's staged k_exact and a_break, from `begin`.
-  void apply_diffraction(const WaveRays& out, double* amplitude, std::int32_t family, std::size_t begin, std::size_t end) {
-    auto k_exact = [&](std::size_t t) -> double& { return k_scratch_[t - begin]; };
+  // `out` holds the samples in ray order (its amplitudes are `amplitude`); the lane's k_scratch and
+  // a_scratch hold the ray's staged k_exact and a_break, from `begin`.
+  void apply_diffraction(Lane& lane, const WaveRays& out, double* amplitude, std::int32_t family, std::size_t begin,
+                         std::size_t end) {
+    auto k_exact = [&](std::size_t t) -> double& { return lane.k_scratch[t - begin]; };
     std::size_t i = begin;
     while (i < end) {
       if (!(out.sample_flags[i] & sample_flag::diffraction)) {
@@ -1451,27 +1508,28 @@ class TrainTracer {
       while (run_end < end && (out.sample_flags[run_end] & sample_flag::diffraction)) ++run_end;
       for (std::size_t e : {i, run_end - 1}) {
         double& K = k_exact(e);
-        if (std::isnan(K)) K = k_factor(main_, family, out.x[e], out.y[e], out.phase[e]);
+        if (knot_pending(K)) K = k_factor(lane, family, out.x[e], out.y[e], out.phase[e]);
       }
       std::size_t last = i;
       double path = 0.0, path_last = 0.0;
-      path_scratch_.resize(run_end - i);  // path length from sample i
-      path_scratch_[0] = 0.0;
+      lane.path_scratch.resize(run_end - i);  // path length from sample i
       for (std::size_t t = i + 1; t < run_end; ++t) {
         path += dist(out.x[t] - out.x[t - 1], out.y[t] - out.y[t - 1]);
-        path_scratch_[t - i] = path;
-        if (std::isnan(k_exact(t))) continue;
+        lane.path_scratch[t - i] = path;
+        double& K = k_exact(t);
+        if (std::isnan(K)) continue;
+        if (K == pending_knot) K = k_factor(lane, family, out.x[t], out.y[t], out.phase[t]);
         // Knot t: interpolate the samples since the previous knot.
-        const double k_last = k_exact(last), k_t = k_exact(t);
+        const double k_last = k_exact(last), k_t = K;
         for (std::size_t q = last + 1; q < t; ++q) {
-          const double u = path > path_last ? (path_scratch_[q - i] - path_last) / (path - path_last) : 1.0;
+          const double u = path > path_last ? (lane.path_scratch[q - i] - path_last) / (path - path_last) : 1.0;
           k_exact(q) = k_last + u * (k_t - k_last);
         }
         last = t;
         path_last = path;
       }
       for (std::size_t t = i; t < run_end; ++t) {
-        amplitude[t] = std::min(amplitude[t] * k_exact(t), a_scratch_[t - begin]);
+        amplitude[t] = std::min(amplitude[t] * k_exact(t), lane.a_scratch[t - begin]);
       }
       i = run_end;
     }
@@ -1517,9 +1575,8 @@ class TrainTracer {
   Lane main_;  // the sweep's own
   Lane side_;  // the helper's, merged into main_ after each shared pass
   std::unique_ptr<HelperLane> helper_;  // with two lanes, on a large enough front
-  std::vector<double> k_scratch_, a_scratch_;  // finish(): one ray's k_exact and a_break
-  std::vector<double> path_scratch_;            // apply_diffraction(): path lengths along a run
   std::int64_t first_step_ = 0;
+  double k_bound_ = inf;  // K' <= k_bound_ everywhere (finalize)
   bool reflected_ = false;  // tracing a reflected wave (seeded on walls, not from the entry front)
 };
 

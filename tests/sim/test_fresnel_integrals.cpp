@@ -201,4 +201,21 @@ TEST(FresnelIntegrals, TabulatedAuxiliaryFunctionWithinItsBound) {
   EXPECT_LT(worst_k, 1e-7);  // 5.6e-8 measured
 }
 
+TEST(FresnelIntegrals, OneSommerfeldTermStaysWithinItsBound) {
+  // The tracer leaves K' to the gather wherever a_geo sommerfeld_term_bound (1 + alpha) is within the
+  // breaking limit: the bound must hold everywhere. One term depends on v = sqrt(4 k r / pi)
+  // cos(psi / 2) alone (theta 0 gives v >= 0, theta 2 pi v <= 0), so a fine scan of v covers all of
+  // it; the maximum is the lit side's first fringe, 1.1705 at v = 1.22.
+  double worst = 0.0, at = 0.0;
+  for (int i = 0; i <= 400000; ++i) {
+    const double v = -20.0 + 1e-4 * i;
+    const double k = houle::detail::sommerfeld_modulus_tabulated(pi / 4.0 * v * v, v >= 0.0 ? 0.0 : 2.0 * pi, 0.0, 0.0);
+    if (k > worst) worst = k, at = v;
+  }
+  std::printf("one Sommerfeld term: max modulus %.6f at v = %.4f (bound %.3f)\n", worst, at,
+              houle::detail::sommerfeld_term_bound);
+  EXPECT_GT(worst, 1.17);  // the first fringe was found
+  EXPECT_LE(worst, houle::detail::sommerfeld_term_bound);
+}
+
 }  // namespace
