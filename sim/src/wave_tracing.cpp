@@ -1454,7 +1454,11 @@ class TrainTracer {
 
   // The staged samples of rays order_[lo, hi) into the output, K' applied.
   void gather(Lane& lane, const WaveRays& out, const Gather& g, std::size_t lo, std::size_t hi) {
-    double* const* arrays = g.arrays;
+    // Local pointers: the byte stores of the flags could alias g's, which the compiler would
+    // otherwise reload for every sample.
+    double *const x = g.arrays[0], *const y = g.arrays[1], *const theta = g.arrays[2], *const k = g.arrays[3];
+    double *const amplitude = g.arrays[4], *const phase = g.arrays[5], *const time = g.arrays[6];
+    std::uint8_t* const flags = g.flags;
     for (std::size_t i = lo; i < hi; ++i) {
       const Ray& r = rays_[std::size_t(order_[i])];
       const std::size_t begin = out.sample_begin[i];
@@ -1465,14 +1469,14 @@ class TrainTracer {
         const std::size_t n = std::min<std::size_t>(SampleChunk::size, out.sample_begin[i + 1] - t);
         for (std::size_t q = 0; q < n; ++q) {
           const StagedSample& s = ch.at[q];
-          arrays[0][t + q] = s.x;
-          arrays[1][t + q] = s.y;
-          arrays[2][t + q] = s.theta;
-          arrays[3][t + q] = s.k;
-          arrays[4][t + q] = s.amplitude;
-          arrays[5][t + q] = s.phase;
-          arrays[6][t + q] = s.time;
-          g.flags[t + q] = s.flags;
+          x[t + q] = s.x;
+          y[t + q] = s.y;
+          theta[t + q] = s.theta;
+          k[t + q] = s.k;
+          amplitude[t + q] = s.amplitude;
+          phase[t + q] = s.phase;
+          time[t + q] = s.time;
+          flags[t + q] = s.flags;
         }
         if (g.diffraction) {
           for (std::size_t q = 0; q < n; ++q) {
@@ -1483,9 +1487,9 @@ class TrainTracer {
         t += n;
       }
       if (!g.diffraction) continue;
-      apply_diffraction(lane, out, arrays[4], r.family, begin, out.sample_begin[i + 1]);
+      apply_diffraction(lane, out, amplitude, r.family, begin, out.sample_begin[i + 1]);
       for (std::size_t q = begin; q < t; ++q) {
-        g.coefficient[q] = (g.flags[q] & sample_flag::diffraction) ? float(lane.k_scratch[q - begin]) : 1.0f;
+        g.coefficient[q] = (flags[q] & sample_flag::diffraction) ? float(lane.k_scratch[q - begin]) : 1.0f;
       }
     }
   }
