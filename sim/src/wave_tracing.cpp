@@ -365,21 +365,19 @@ class TrainTracer {
 
   WaveRays run(DwtStats& stats) {
     sweep();
-    return finish(stats);
+    return finish(stats, [] {});
   }
 
-  // run(), and the wave reflected where this one's rays ended (trace_reflection of its result). In
-  // uniform water the reflected wave is not traced on the helper beside this one's gather: on Fig. 4
-  // the sweeps after such a build ran slower (pass A by 10 %) than the overlap saved (5.04 against
-  // 4.78 ms in 9 interleaved runs).
+  // run(), and the wave reflected where this one's rays ended (trace_reflection of its result). On
+  // two lanes the reflected wave is traced on the second, beside this one's gather.
   WaveRays run_reflecting(DwtStats& stats, WaveRays& reflected, DwtStats& reflected_stats) {
     sweep();
     const std::vector<RayEnd> ends = ray_ends();
-    WaveRays out = finish(stats);
-    TrainTracer r(scene_, train_index_, set_, ends, medium_.omega, front_.dx, front_.dy, front_.dphi, lanes_);
-    reflected = r.run(reflected_stats);
-    reflected_stats.reflected_rays = reflected_stats.rays;
-    return out;
+    return finish(stats, [&] {
+      TrainTracer r(scene_, train_index_, set_, ends, medium_.omega, front_.dx, front_.dy, front_.dphi, 1);
+      reflected = r.run(reflected_stats);
+      reflected_stats.reflected_rays = reflected_stats.rays;
+    });
   }
 
   // Where every ray ended, in output order (after the sweep): what a reflected wave starts from.
@@ -1368,7 +1366,10 @@ class TrainTracer {
 
   // ---- output ----
 
-  WaveRays finish(DwtStats& stats) {
+  // The output, and `also` run beside the gather on the second lane when there is one (the first
+  // task it takes), or after it.
+  template <class Also>
+  WaveRays finish(DwtStats& stats, const Also& also) {
     WaveRays out;
     out.omega = medium_.omega;
     out.direction_x = front_.dx;
@@ -1406,7 +1407,7 @@ class TrainTracer {
     // lanes, runs of rays of about equal sample counts are taken from both ends (what a ray's
     // output is does not depend on the lane that writes it).
     const Gather g{arrays, flags, coefficient, diffraction};
-    if (lanes_ > 1 && nr > 1) {
+    if (lanes_ > 1) {
       constexpr std::size_t runs = 32;
       std::vector<std::size_t> bound(runs + 1, nr);
       bound[0] = 0;
@@ -1416,11 +1417,15 @@ class TrainTracer {
         bound[c] = std::max(bound[c], bound[c - 1]);
       }
       if (!helper_) helper_ = std::make_unique<HelperLane>();
-      auto task = [&](int lane, std::uint32_t c) { gather(lane == 0 ? main_ : side_, out, g, bound[c], bound[c + 1]); };
-      helper_->for_chunks(std::uint32_t(runs), task);
+      auto task = [&](int lane, std::uint32_t c) {
+        if (c == runs) also();
+        else gather(lane == 0 ? main_ : side_, out, g, bound[c], bound[c + 1]);
+      };
+      helper_->for_chunks(std::uint32_t(runs + 1), task);
       merge_side_lane();
     } else {
       gather(main_, out, g, 0, nr);
+      also();
     }
     out.sample_storage = std::move(block);
     out.first_step.resize(nr);
