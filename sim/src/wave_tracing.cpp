@@ -451,6 +451,7 @@ class TrainTracer {
 
   void set_step(double dphi) noexcept {
     if (!medium_.uniform) return;
+    uniform_a_break_ = breaking_limit(medium_.uniform_wave);
     medium_.step_dphi = dphi;
     medium_.step_ds = dphi / medium_.uniform_wave.k;
     medium_.step_dtau = medium_.step_ds / medium_.uniform_wave.cg;
@@ -571,7 +572,7 @@ class TrainTracer {
   // ---- samples ----
 
   // On a shared pass, step() has made sure that the cap is not reached (side_ counts from 0).
-  void write_sample(Lane& lane, std::int32_t id, const RayState& st, const LocalWave& w, std::uint8_t flags) {
+  [[gnu::always_inline]] void write_sample(Lane& lane, std::int32_t id, const RayState& st, const LocalWave& w, std::uint8_t flags) {
     Ray& r = rays_[std::size_t(id)];
     if (lane.stats.samples >= set_.max_samples) {
       lane.truncated = true;
@@ -636,6 +637,11 @@ class TrainTracer {
     return K;
   }
 
+  // The largest amplitude the breaking caps allow: H <= gamma_b h and H <= 0.142 L tanh kh.
+  double breaking_limit(const LocalWave& w) const noexcept {
+    return std::min(0.5 * set_.breaker_index * w.h, 0.071 * two_pi / w.k * w.tanh_kh);
+  }
+
   // How far along a ray K' may go between exact evaluations: a quarter wavelength, less near the
   // pierhead where K' changes faster (a third of the distance to it, at least L/64).
   double knot_spacing(std::int32_t family, double x, double y, double k) const noexcept {
@@ -649,11 +655,11 @@ class TrainTracer {
   // spacing back); the sample keeps a_geo and its limit, and gets interpolated K' and the caps
   // again after the sweep (apply_diffraction). A knot's exact K' is computed here only if a cap
   // could bind: otherwise the gather computes it, on both lanes when there are two.
-  void finalize(Lane& lane, std::int32_t id) {
+  [[gnu::always_inline]] void finalize(Lane& lane, std::int32_t id) {
     Ray& r = rays_[std::size_t(id)];
     if (!r.latest) return;  // the sample cap refused it
     StagedSample& c = *r.latest;
-    const double a_break = std::min(0.5 * set_.breaker_index * r.w.h, 0.071 * two_pi / r.w.k * r.w.tanh_kh);
+    const double a_break = medium_.uniform ? uniform_a_break_ : breaking_limit(r.w);
     const double x = c.x, y = c.y;
     const bool diffracts = r.family >= 0 || (!fans_.empty() && in_band(x, y));
     double K = 1.0;
@@ -1586,6 +1592,7 @@ class TrainTracer {
   std::unique_ptr<HelperLane> helper_;  // with two lanes, on a large enough front
   std::int64_t first_step_ = 0;
   double k_bound_ = inf;  // K' <= k_bound_ everywhere (finalize)
+  double uniform_a_break_ = 0.0;  // breaking_limit() of a uniform floor
   bool reflected_ = false;  // tracing a reflected wave (seeded on walls, not from the entry front)
 };
 
