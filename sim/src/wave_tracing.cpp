@@ -146,11 +146,9 @@ double dist(double x, double y) noexcept { return std::sqrt(x * x + y * y); }  /
 
 // ---- Diffraction coefficients ---------------------------------------------------------------------
 
-// K' of `model` at r/L, theta in the breakwater frame. The exact model goes straight to the modulus
-// with the tabulated Fresnel function (within 1e-7 of sommerfeld_field's, at a fraction of the cost;
-// diffraction() would also validate and build the phase).
+// K' of one of the paper's models at r/L, theta in the breakwater frame (the exact model is
+// evaluated from its Fresnel arguments in the tracer: TrainTracer::k_factor).
 double coefficient(DiffractionModel model, double r_over_l, double theta, double theta0, double alpha) {
-  if (model == DiffractionModel::exact) return sommerfeld_modulus_tabulated(two_pi * r_over_l, theta, theta0, alpha);
   const auto d = diffraction(model, r_over_l, theta, theta0, alpha);
   return d.ok() ? d->K : 1.0;
 }
@@ -305,6 +303,7 @@ struct Fan {
   double v_scale = 0.0;             // sqrt(4 k / pi): v = v_scale sqrt(r) cos((theta - theta0) / 2)
   double d0x = 0.0, d0y = 0.0;      // world unit vector at angle theta0 in the frame (towards the waves' origin)
   double cos_theta0 = 1.0, sin_theta0 = 0.0;
+  double cos_half_theta0 = 1.0, sin_half_theta0 = 0.0;
 };
 
 enum class Stop : std::uint8_t { none, wall, domain, shore };
@@ -607,16 +606,53 @@ class TrainTracer {
     return v < 0.0 && f.sin_theta0 * u - f.cos_theta0 * v > 0.0;
   }
 
-  // K' at a sample of a ray of `family` (-1: undiffracted) with phase phi.
+  // The point (px, py) from fan f's pierhead in its breakwater frame: its distance r, and the
+  // cosines of (theta -+ theta0) / 2, which give the Sommerfeld terms' Fresnel arguments. From
+  // half-angle identities (no atan2 or cos): cos(theta / 2) = sign(v) sqrt((r + u) / 2r) and
+  // sin(theta / 2) = sqrt((r - u) / 2r), each from whichever of r + u, r - u does not cancel
+  // ((r + u)(r - u) = v^2). On the structure's line theta is 2 pi with `lee` (the fans' lee face),
+  // else 0; at the pierhead, pi.
+  struct HalfAngles {
+    double r, minus, plus;
+  };
+  static HalfAngles half_angles(const Fan& f, double px, double py, bool lee) noexcept {
+    const double u = px * f.frame.ux + py * f.frame.uy, v = px * f.frame.vx + py * f.frame.vy;
+    const double r = std::sqrt(u * u + v * v);
+    double c = 0.0, s = 1.0;  // cos and sin of theta / 2
+    if (v == 0.0 && u > 0.0) {
+      c = lee ? -1.0 : 1.0;
+      s = 0.0;
+    } else if (r > 0.0) {
+      if (u >= 0.0) {
+        c = std::sqrt((r + u) / (2.0 * r));
+        s = std::fabs(v) / std::sqrt(2.0 * r * (r + u));
+      } else {
+        s = std::sqrt((r - u) / (2.0 * r));
+        c = std::fabs(v) / std::sqrt(2.0 * r * (r - u));
+      }
+      if (v < 0.0) c = -c;
+    }
+    return {r, c * f.cos_half_theta0 + s * f.sin_half_theta0, c * f.cos_half_theta0 - s * f.sin_half_theta0};
+  }
+
+  // K' at a sample of a ray of `family` (-1: undiffracted) with phase phi. The exact model goes
+  // straight to the Fresnel arguments (half_angles); the paper's models through their formulas.
   double k_factor(Lane& lane, std::int32_t family, double x, double y, double phi) {
+    const bool exact = set_.diffraction_model == DiffractionModel::exact;
     if (family >= 0) {
       const Fan& f = fans_[std::size_t(family)];
+      ++lane.stats.diffraction_evaluations;
+      if (exact) {
+        // k r with the optical distance from M (physics.md 4.7): the phase gained since M.
+        const double s = std::sqrt(4.0 / pi * std::max(0.0, phi - f.phi_m));
+        const HalfAngles h = half_angles(f, x - f.site.x, y - f.site.y, true);
+        return sommerfeld_modulus_at(s * h.minus, s * h.plus, f.site.reflection);
+      }
       const BreakwaterPolar p = breakwater_polar(f.frame, x, y);
       // Optical distance from M (physics.md 4.7): the phase gained since M, in wavelengths.
       const double r_over_l = std::max(0.0, (phi - f.phi_m) / two_pi);
       // A sample exactly on the structure's line can only be on its lee face (fans start there).
       const double theta = p.kind == BreakwaterPointKind::on_structure ? two_pi : p.theta;
-      ++lane.stats.diffraction_evaluations;
       return coefficient(set_.diffraction_model, r_over_l, theta, f.theta0, f.site.reflection);
     }
     double K = 1.0;
@@ -625,12 +661,18 @@ class TrainTracer {
       // reflected wave), blended to 1 from v = 4 to 8 so that nothing jumps at the band's edge.
       const double px = x - f.site.x, py = y - f.site.y;
       if (f.v_scale * f.v_scale * 0.5 * (dist(px, py) + px * f.d0x + py * f.d0y) >= band_end * band_end) continue;
-      const BreakwaterPolar p = breakwater_polar(f.frame, x, y);
-      if (p.theta > pi + f.theta0) continue;  // not this pierhead's lit side
-      const double v = f.v_scale * std::sqrt(p.r) * std::cos(0.5 * (p.theta - f.theta0));
+      if (beyond_shadow_line(f, px, py)) continue;  // not this pierhead's lit side
+      const HalfAngles h = half_angles(f, px, py, false);
+      const double v = f.v_scale * std::sqrt(h.r) * h.minus;
       if (v >= band_end) continue;
       ++lane.stats.diffraction_evaluations;
-      const double kf = coefficient(set_.diffraction_model, p.r_over_L, p.theta, f.theta0, 0.0);
+      double kf = 0.0;
+      if (exact) {
+        kf = sommerfeld_modulus_at(v, 0.0, 0.0);
+      } else {
+        const BreakwaterPolar p = breakwater_polar(f.frame, x, y);
+        kf = coefficient(set_.diffraction_model, p.r_over_L, p.theta, f.theta0, 0.0);
+      }
       const double t = std::clamp((v - band_start) / (band_end - band_start), 0.0, 1.0);
       K *= kf + (1.0 - kf) * (t * t * (3.0 - 2.0 * t));
     }
@@ -1135,6 +1177,8 @@ class TrainTracer {
     f.v_scale = std::sqrt(4.0 * f.wave_m.k / pi);
     f.cos_theta0 = std::cos(f.theta0);
     f.sin_theta0 = std::sin(f.theta0);
+    f.cos_half_theta0 = std::cos(0.5 * f.theta0);
+    f.sin_half_theta0 = std::sin(0.5 * f.theta0);
     f.d0x = f.cos_theta0 * f.frame.ux + f.sin_theta0 * f.frame.vx;
     f.d0y = f.cos_theta0 * f.frame.uy + f.sin_theta0 * f.frame.vy;
     const double along = mx * dx + my * dy;  // <= 0: M is behind R1's wavefront position
