@@ -868,7 +868,7 @@ class TrainTracer {
       for (std::size_t i = chunk; i < n; i += chunk) {
         Pose pa{}, pb{};
         if (pose_on_step(rays_[std::size_t(order_[i - 1])], phi_j, pa) && pose_on_step(rays_[std::size_t(order_[i])], phi_j, pb)) {
-          measure_pair(main_, i - 1, pa, pb);
+          main_.widest = std::max(main_.widest, measure_pair(i - 1, pa, pb));
         }
       }
       merge_side_lane();
@@ -1030,18 +1030,21 @@ class TrainTracer {
     measure_pairs(main_, 0, order_.size());
   }
 
-  // The pairs within order_[lo, hi).
+  // The pairs within order_[lo, hi). The widest is kept in a register: through lane.widest, which
+  // the pair arrays' stores might alias, every pair's sqrt and division waited for the last one's.
   void measure_pairs(Lane& lane, std::size_t lo, std::size_t hi) {
     if (lo >= hi) return;
     const double phi_j = grid_phase(step_);
     Pose pa{}, pb{};
     bool has_a = pose_on_step(rays_[std::size_t(order_[lo])], phi_j, pa);
+    double widest = lane.widest;
     for (std::size_t i = lo + 1; i < hi; ++i) {
       const bool has_b = pose_on_step(rays_[std::size_t(order_[i])], phi_j, pb);
-      if (has_a && has_b) measure_pair(lane, i - 1, pa, pb);
+      if (has_a && has_b) widest = std::max(widest, measure_pair(i - 1, pa, pb));
       pa = pb;
       has_a = has_b;
     }
+    lane.widest = widest;
   }
 
   // No pair measured yet on this wavefront.
@@ -1054,13 +1057,16 @@ class TrainTracer {
   }
 
   // Pair (i, i + 1), whose rays have poses pa and pb on this wavefront.
-  void measure_pair(Lane& lane, std::size_t i, const Pose& pa, const Pose& pb) {
+  // Returns its spacing if it is real, else 0 (what the widest real spacing starts from).
+  double measure_pair(std::size_t i, const Pose& pa, const Pose& pb) {
     const Ray& a = rays_[std::size_t(order_[i])];
     const Ray& b = rays_[std::size_t(order_[i + 1])];
-    pair_sigma_[i] = spacing(pa, pb);
-    pair_width_[i] = tube_width(a.family, pa, pb, pair_sigma_[i]);
-    pair_real_[i] = live_on_step(a) && live_on_step(b);
-    if (pair_real_[i]) lane.widest = std::max(lane.widest, pair_sigma_[i]);
+    const double sigma = spacing(pa, pb);
+    const bool real = live_on_step(a) && live_on_step(b);
+    pair_sigma_[i] = sigma;
+    pair_width_[i] = tube_width(a.family, pa, pb, sigma);
+    pair_real_[i] = real;
+    return real ? sigma : 0.0;
   }
 
   // Tubes, caustics and amplitudes on this wavefront in one pass: pair (i, i + 1) is classified just
