@@ -17,14 +17,17 @@
 
 namespace houle::detail {
 
-/// The wave's local properties at a point.
+/// The wave's local properties at a point (what the tracer reads on every step first: one line).
 struct LocalWave {
   double depth = 0.0;                  ///< m, the floor's depth there (may be <= 0: land)
-  double h = 0.0, hx = 0.0, hy = 0.0;  ///< depth used (clamped to the medium's floor) and its gradient
-  double k = 0.0, kh = 0.0;            ///< rad/m
-  double tanh_kh = 0.0;
-  double c = 0.0, cg = 0.0;            ///< m/s
+  double k = 0.0;                      ///< rad/m
+  double cg = 0.0;                     ///< m/s, group celerity
   double ks = 0.0;                     ///< shoaling coefficient sqrt(Cg0 / Cg)
+  double h = 0.0;                      ///< depth used (clamped to the medium's floor)
+  double tanh_kh = 0.0;
+  double kh = 0.0;
+  double c = 0.0;                      ///< m/s, phase celerity
+  double hx = 0.0, hy = 0.0;           ///< the gradient of h
   double bend = 0.0;                   ///< 2 / (2kh + sinh 2kh)
 };
 

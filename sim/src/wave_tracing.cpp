@@ -1,5 +1,6 @@
 // Dynamic Wave Tracing: the wavefront sweep (see wave_rays.hpp for the method and its choices).
 #include <algorithm>
+#include <cstddef>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -242,15 +243,13 @@ struct Lane {
   std::vector<double> path_scratch;           // apply_diffraction(): path lengths along a run
 };
 
-// Fields are grouped by the passes that use them, so that a pass over the front touches few of a
-// ray's cache lines; cold fields last.
+// Fields are grouped so that a step touches four of a ray's lines (the ones prefetch_ray fetches):
+// pose; wavefront state and amplitude; tube and samples; the wave's first half. Cold fields last.
 struct alignas(64) Ray {
-  // Motion and pose (pass A, tubes).
+  // Line 0: motion and pose (pass A, tubes).
   RayState st{};
   double cos_t = 1.0, sin_t = 0.0;  // of st.theta
-  LocalWave w{};                 // the wave at st
-  double clear = 0.0;            // m of path from st free of walls and the domain's edge (chord_event)
-  // State on the wavefront (every pass).
+  // Line 1: state on the wavefront (every pass), amplitude.
   bool alive = true;             // not ended (pending rays are alive)
   bool entering = false;         // an initial ray that has not reached the domain: outside it, on a
                                  // straight path in uniform water, it still bounds its neighbours' tubes
@@ -258,23 +257,27 @@ struct alignas(64) Ray {
   bool joined_now = false;       // its first on-grid sample is this step's
   bool fresh = false;            // born complete on this step (fans, insertions): nothing to update
   bool tube_crossed = false;
+  bool has_knot = false;         // knot_* hold the last knot along this ray
   std::uint8_t flags = 0;
   std::int32_t family = -1;      // fan index, or -1 for the incident wave
   std::int32_t crossed_with = -1;  // this step: the next ray it is found crossed with
-  // Amplitude and the tube to the next ray in order, as of the last completed step.
   double a_geo = 0.0;            // m, amplitude from shoaling and tube width (no K', capped)
   double a_prev = 0.0, cg_prev = 0.0;  // at the previous sample
   double width_ratio = 1.0;      // b_prev / b over the last full step (for a final partial step)
-  std::int32_t tube_next = -1;
+  double clear = 0.0;            // m of path from st free of walls and the domain's edge (chord_event)
+  std::int32_t tube_next = -1;   // the tube to the next ray in order, as of the last completed step
+  // Line 2: that tube, the samples, the last knot (path length s and spacing to the next).
   double tube_sigma = 0.0;       // perpendicular spacing, m
   double tube_b = 0.0;           // width used for amplitude (sigma, or sigma / d in a fan)
-  // The last knot along this ray, where (path length s) it lies and its K' (NaN while pending: then
-  // knot_sample holds it, to be computed in the gather unless a cap needs it first).
-  bool has_knot = false;
-  double knot_k = 1.0, knot_s = 0.0, knot_gap = 0.0;
-  StagedSample* knot_sample = nullptr;
   StagedSample* latest = nullptr;  // in samples; null before the first (or if the cap refused it)
   ChunkList samples;             // in a lane's SampleStore: appended to on every step
+  double knot_s = 0.0, knot_gap = 0.0;
+  // Lines 3-4: the wave at st (its hot fields first).
+  LocalWave w{};
+  // The last knot's K' (NaN while pending: then knot_sample holds it, to be computed in the gather
+  // unless a cap needs it first).
+  double knot_k = 1.0;
+  StagedSample* knot_sample = nullptr;
   // Cold: ends, lineage.
   std::uint32_t wall = 0;        // the wall it hit (when hit_wall)
   double hit_x = 0.0, hit_y = 0.0;
@@ -290,6 +293,8 @@ struct alignas(64) Ray {
     sin_t = std::sin(st.theta);
   }
 };
+static_assert(offsetof(Ray, alive) == 64 && offsetof(Ray, tube_sigma) == 128 && offsetof(Ray, w) == 192,
+              "Ray's hot fields are in its first four lines");
 
 struct Fan {
   PierheadSite site{};
@@ -902,10 +907,10 @@ class TrainTracer {
   }
 
   // order_ visits rays_ out of order, which the hardware cannot follow: the passes fetch a ray's
-  // lines two rays ahead.
+  // hot lines two rays ahead.
   void prefetch_ray(std::int32_t id) const noexcept {
     const auto* p = reinterpret_cast<const char*>(&rays_[std::size_t(id)]);
-    for (std::size_t b = 0; b < sizeof(Ray); b += 64) __builtin_prefetch(p + b, 1);
+    for (std::size_t b = 0; b < 4 * 64; b += 64) __builtin_prefetch(p + b, 1);
   }
 
   void merge_side_lane() {
