@@ -188,7 +188,6 @@ double detail::sommerfeld_modulus_at(double v1, double v2, double alpha) noexcep
   return std::sqrt(f.real() * f.real() + f.imag() * f.imag());  // |F| <= 2.35: no need for hypot's range care
 }
 
-
 std::complex<float> sommerfeld_field_fg(double k_r, double theta, double theta0, float alpha) noexcept {
   const double s = std::sqrt(4.0 / pi * k_r);
   const std::complex<float> radial = std::polar(1.0f, float(std::remainder(k_r, two_pi)));

@@ -1,7 +1,7 @@
 // Dynamic Wave Tracing: the wavefront sweep (see wave_rays.hpp for the method and its choices).
 #include <algorithm>
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -353,7 +353,8 @@ class TrainTracer {
       // blend of a term towards 1 per fan.
       double alpha = 0.0;
       for (const Wall& w : scene.walls) alpha = std::max(alpha, w.reflection);
-      k_bound_ = std::max(sommerfeld_term_bound * (1.0 + alpha), std::pow(sommerfeld_term_bound, double(sites_.size())));
+      k_bound_ = std::max(sommerfeld_term_bound * (1.0 + alpha),
+                          std::pow(sommerfeld_term_bound, double(sites_.size())));
     }
   }
   // The train's reflected wave, seeded where its rays ended on reflecting walls (ray_ends(), with the
@@ -576,7 +577,8 @@ class TrainTracer {
   // ---- samples ----
 
   // On a shared pass, step() has made sure that the cap is not reached (side_ counts from 0).
-  [[gnu::always_inline]] void write_sample(Lane& lane, std::int32_t id, const RayState& st, const LocalWave& w, std::uint8_t flags) {
+  [[gnu::always_inline]] void write_sample(Lane& lane, std::int32_t id, const RayState& st, const LocalWave& w,
+                                           std::uint8_t flags) {
     Ray& r = rays_[std::size_t(id)];
     if (lane.stats.samples >= set_.max_samples) {
       lane.truncated = true;
@@ -1474,7 +1476,8 @@ class TrainTracer {
       bound[0] = 0;
       for (std::size_t c = 1; c < runs; ++c) {
         const std::uint32_t target = std::uint32_t(ns * c / runs);
-        bound[c] = std::size_t(std::lower_bound(out.sample_begin.begin(), out.sample_begin.end() - 1, target) - out.sample_begin.begin());
+        const auto at = std::lower_bound(out.sample_begin.begin(), out.sample_begin.end() - 1, target);
+        bound[c] = std::size_t(at - out.sample_begin.begin());
         bound[c] = std::max(bound[c], bound[c - 1]);
       }
       if (!helper_) helper_ = std::make_unique<HelperLane>();

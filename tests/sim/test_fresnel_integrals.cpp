@@ -207,7 +207,8 @@ TEST(FresnelIntegrals, TabulatedAuxiliaryFunctionWithinItsBound) {
 TEST(FresnelIntegrals, OneSommerfeldTermStaysWithinItsBound) {
   // The tracer leaves K' to the gather wherever a_geo sommerfeld_term_bound (1 + alpha) is within the
   // breaking limit: the bound must hold everywhere. One term depends on its Fresnel argument
-  // v = sqrt(4 k r / pi) cos(psi / 2) alone, so a fine scan of v covers all of it; the maximum is the lit side's first fringe, 1.1705 at v = 1.22.
+  // v = sqrt(4 k r / pi) cos(psi / 2) alone, so a fine scan of v covers all of it; the maximum is
+  // the lit side's first fringe, 1.1705 at v = 1.22.
   double worst = 0.0, at = 0.0;
   for (int i = 0; i <= 400000; ++i) {
     const double v = -20.0 + 1e-4 * i;

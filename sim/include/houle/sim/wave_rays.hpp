@@ -37,6 +37,8 @@
 //   K' is computed exactly at knots along each ray (a quarter wavelength apart, down to L/64 near
 //   the pierhead) and interpolated linearly in path length in between: within 5e-3 of the exact
 //   coefficient on the Fig. 4 scene (tests/sim/test_wave_tracing.cpp), for a fifth of the cost.
+//   The sweep needs a knot's value only where a breaking cap could bind (where a_geo times the
+//   bound on K', 1.171 (1 + alpha), exceeds the limit); elsewhere the final gather computes it.
 // - Reflection (physics.md 2.6 ends rays on walls; the reflected wave is added here): the rays of a
 //   train that end on a wall with alpha > 0 seed a second trace, the train's reflected wave, as its
 //   own WaveRays. Each seed starts at the hit point with the direction mirrored about the wall
@@ -224,8 +226,9 @@ struct DwtBound {
 DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& settings) noexcept;
 
 /// Traces train `train` of a valid scene (Error if the scene or settings are invalid). With
-/// `threads` >= 2, steps over a large front of curving rays (64 or more) advance on two threads; the
-/// result is bit-identical to one thread's.
+/// `threads` >= 2, steps over a large front of curving rays (64 or more) advance on two threads, and
+/// the final gather (with the exact K' at knots) is shared; the result is bit-identical to one
+/// thread's.
 Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtSettings& settings, DwtStats* stats = nullptr,
                                unsigned threads = 1);
 /// The reflected wave of train `train` from its traced rays `incident` (trace_train's result with
@@ -235,7 +238,8 @@ Expected<WaveRays> trace_reflection(const Scene& scene, std::size_t train, const
                                     const DwtSettings& settings, DwtStats* stats = nullptr, unsigned threads = 1);
 /// Traces every train with scene.dwt (or the given settings), then its reflection. `threads` > 1
 /// traces trains in parallel, and gives a train the threads left over (one train on two threads
-/// uses both, as trace_train); the result is bit-identical for any thread count.
+/// uses both, as trace_train, and traces its reflection beside its gather); the result is
+/// bit-identical for any thread count.
 Expected<WaveField> trace_wave_field(const Scene& scene, unsigned threads = 1);
 Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& settings, unsigned threads = 1);
 
