@@ -1476,8 +1476,8 @@ class TrainTracer {
       bound[0] = 0;
       for (std::size_t c = 1; c < runs; ++c) {
         const std::uint32_t target = std::uint32_t(ns * c / runs);
-        const auto at = std::lower_bound(out.sample_begin.begin(), out.sample_begin.end() - 1, target);
-        bound[c] = std::size_t(at - out.sample_begin.begin());
+        const auto past = std::lower_bound(out.sample_begin.begin(), out.sample_begin.end() - 1, target);
+        bound[c] = std::size_t(past - out.sample_begin.begin());
         bound[c] = std::max(bound[c], bound[c - 1]);
       }
       if (!helper_) helper_ = std::make_unique<HelperLane>();
