@@ -374,15 +374,20 @@ class TrainTracer {
   }
 
   // run(), and the wave reflected where this one's rays ended (trace_reflection of its result). On
-  // two lanes the reflected wave is traced on the second, beside this one's gather.
+  // two lanes in uniform water the reflected wave is traced on the second, beside this one's gather;
+  // where rays curve, after it on both (its large fronts share their steps).
   WaveRays run_reflecting(DwtStats& stats, WaveRays& reflected, DwtStats& reflected_stats) {
     sweep();
     const std::vector<RayEnd> ends = ray_ends();
-    return finish(stats, [&] {
-      TrainTracer r(scene_, train_index_, set_, ends, medium_.omega, front_.dx, front_.dy, front_.dphi, 1);
+    auto trace = [&](unsigned lanes) {
+      TrainTracer r(scene_, train_index_, set_, ends, medium_.omega, front_.dx, front_.dy, front_.dphi, lanes);
       reflected = r.run(reflected_stats);
       reflected_stats.reflected_rays = reflected_stats.rays;
-    });
+    };
+    if (medium_.uniform) return finish(stats, [&] { trace(1); });
+    WaveRays out = finish(stats, [] {});
+    trace(lanes_);
+    return out;
   }
 
   // Where every ray ended, in output order (after the sweep): what a reflected wave starts from.
