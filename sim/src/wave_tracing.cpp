@@ -272,8 +272,8 @@ struct alignas(64) Ray {
   StagedSample* latest = nullptr;  // in samples; null before the first (or if the cap refused it)
   ChunkList samples;             // in a lane's SampleStore: appended to on every step
   double knot_s = 0.0, knot_gap = 0.0;
-  // Lines 3-4: the wave at st (its hot fields first).
-  LocalWave w{};
+  // Lines 3-4: the wave at st (its hot fields first; aligned where pointers are 4 bytes).
+  alignas(64) LocalWave w{};
   // The last knot's K' (NaN while pending: then knot_sample holds it, to be computed in the gather
   // unless a cap needs it first).
   double knot_k = 1.0;
