@@ -30,9 +30,9 @@
 #include <utility>
 #include <vector>
 
-#include "houle/kernel/framebuffer.hpp"
-#include "houle/kernel/isa.hpp"
-#include "houle/kernel/surface_frame.hpp"
+#include "houle/render/framebuffer.hpp"
+#include "houle/runtime/isa.hpp"
+#include "houle/surface/surface_frame.hpp"
 #include "houle/sim/animation.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/sim/sea_surface.hpp"

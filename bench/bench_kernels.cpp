@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "houle/kernel/capillary.hpp"
-#include "houle/kernel/gerstner.hpp"
-#include "houle/kernel/isa.hpp"
+#include "houle/surface/capillary.hpp"
+#include "houle/surface/gerstner.hpp"
+#include "houle/runtime/isa.hpp"
 
 namespace {
 

@@ -6,12 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "houle/kernel/camera.hpp"
-#include "houle/kernel/capillary.hpp"
-#include "houle/kernel/gerstner.hpp"
-#include "houle/kernel/isa.hpp"
-#include "houle/kernel/march.hpp"
-#include "houle/kernel/surface_frame.hpp"
+#include "houle/surface/camera.hpp"
+#include "houle/surface/capillary.hpp"
+#include "houle/surface/gerstner.hpp"
+#include "houle/runtime/isa.hpp"
+#include "houle/surface/march.hpp"
+#include "houle/surface/surface_frame.hpp"
 #include "coastal_waves.hpp"
 
 namespace {

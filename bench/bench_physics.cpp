@@ -28,8 +28,8 @@
 #include <utility>
 #include <vector>
 
-#include "houle/kernel/bulk_memory.hpp"
-#include "houle/kernel/isa.hpp"
+#include "houle/runtime/bulk_memory.hpp"
+#include "houle/runtime/isa.hpp"
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene.hpp"

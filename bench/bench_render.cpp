@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "houle/kernel/camera.hpp"
-#include "houle/kernel/capillary.hpp"
-#include "houle/kernel/gerstner.hpp"
-#include "houle/kernel/isa.hpp"
-#include "houle/kernel/renderer.hpp"
-#include "houle/kernel/surface_frame.hpp"
+#include "houle/surface/camera.hpp"
+#include "houle/surface/capillary.hpp"
+#include "houle/surface/gerstner.hpp"
+#include "houle/runtime/isa.hpp"
+#include "houle/render/renderer.hpp"
+#include "houle/surface/surface_frame.hpp"
 #include "coastal_waves.hpp"
 
 namespace {

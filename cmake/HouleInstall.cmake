@@ -2,13 +2,13 @@
 # find_package(houle) and link houle::kernel / houle::sim (tests/consumer checks it).
 include(CMakePackageConfigHelpers)
 
-foreach(dir kernel/include/houle sim/include/houle)
+foreach(dir kernel/runtime/include/houle kernel/surface/include/houle kernel/render/include/houle sim/include/houle)
   if(EXISTS ${PROJECT_SOURCE_DIR}/${dir})
     install(DIRECTORY ${dir} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
   endif()
 endforeach()
 set(_targets "")
-foreach(t houle_kernel houle_kernel_isa houle_sim houle_sim_isa)
+foreach(t houle_kernel houle_surface_isa houle_render_isa houle_sim houle_sim_isa)
   if(TARGET ${t})
     list(APPEND _targets ${t})
   endif()

@@ -1,6 +1,6 @@
 # Instruction sets compiled for this target. Each SIMD kernel source is compiled once per ISA with
-# that ISA's flags; the baseline code picks one at start-up (kernel/src/isa.cpp).
-# The numeric ids must match houle::Isa in kernel/include/houle/kernel/isa.hpp.
+# that ISA's flags; the baseline code picks one at start-up (kernel/runtime/src/isa.cpp).
+# The numeric ids must match houle::Isa in kernel/runtime/include/houle/runtime/isa.hpp.
 set(HOULE_ISA_ID_scalar 0)
 set(HOULE_ISA_ID_sse4_2 1)
 set(HOULE_ISA_ID_avx2 2)
@@ -37,31 +37,32 @@ if(HOULE_SKIP_ISAS)
 endif()
 message(STATUS "houle: SIMD kernels for: scalar ${HOULE_SIMD_ISAS}")
 
-# Internal: the SIMD layer and the list of compiled ISAs, for houle's own sources and tests.
-add_library(houle_simd INTERFACE)
-target_include_directories(houle_simd INTERFACE $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/kernel/simd>)
-target_link_libraries(houle_simd INTERFACE houle_headeronly houle_options)
+# Internal: the list of compiled ISAs (for the runtime's dispatch), and the SIMD layer.
+add_library(houle_compiled_isas INTERFACE)
 if(HOULE_FORCE_SCALAR)
-  target_compile_definitions(houle_simd INTERFACE HOULE_FORCE_SCALAR=1)
+  target_compile_definitions(houle_compiled_isas INTERFACE HOULE_FORCE_SCALAR=1)
 endif()
 foreach(isa IN LISTS HOULE_SIMD_ISAS)
-  target_compile_definitions(houle_simd INTERFACE HOULE_HAVE_ISA_${HOULE_ISA_ID_${isa}}=1)
+  target_compile_definitions(houle_compiled_isas INTERFACE HOULE_HAVE_ISA_${HOULE_ISA_ID_${isa}}=1)
 endforeach()
+add_library(houle_simd INTERFACE)
+target_include_directories(houle_simd INTERFACE $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/kernel/simd>)
+target_link_libraries(houle_simd INTERFACE houle_headeronly houle_options houle_runtime_headers houle_compiled_isas)
 
-# houle_add_isa_library(<name> <source>...): a static library holding <source> compiled once per SIMD
-# ISA, with HOULE_ISA_ID set. Link it PRIVATE and *after* the baseline objects: inline functions that
-# are not templated on the ISA are emitted in every object, and the linker keeps the first copy it
-# loads, so a baseline caller could otherwise end up in an AVX2-compiled copy (SIGILL on older CPUs).
-# tests/check_isa_leaks.sh guards this.
-function(houle_add_isa_library name)
+# houle_add_isa_library(<name> <deps> <source>...): a static library holding <source> compiled once per
+# SIMD ISA, with HOULE_ISA_ID set. <deps> is the INTERFACE target that gives the parent room's sources
+# their include paths (their own headers and the floors below), so the ISA objects can include no
+# more than the room's baseline code can. Link the library PRIVATE and *after* the baseline objects:
+# inline functions that are not templated on the ISA are emitted in every object, and the linker keeps
+# the first copy it loads, so a baseline caller could otherwise end up in an AVX2-compiled copy (SIGILL
+# on older CPUs). tests/check_isa_leaks.sh guards this.
+function(houle_add_isa_library name deps)
   add_library(${name} STATIC)
   foreach(isa IN LISTS HOULE_SIMD_ISAS)
     add_library(${name}_${isa} OBJECT ${ARGN})
     target_compile_definitions(${name}_${isa} PRIVATE HOULE_ISA_ID=${HOULE_ISA_ID_${isa}})
     target_compile_options(${name}_${isa} PRIVATE ${HOULE_ISA_FLAGS_${isa}})
-    target_link_libraries(${name}_${isa} PRIVATE houle_simd houle_warnings)
-    target_include_directories(${name}_${isa} PRIVATE
-      ${PROJECT_SOURCE_DIR}/kernel/include ${PROJECT_SOURCE_DIR}/sim/include ${CMAKE_CURRENT_SOURCE_DIR}/src)
+    target_link_libraries(${name}_${isa} PRIVATE ${deps} houle_simd houle_warnings)
     target_sources(${name} PRIVATE $<TARGET_OBJECTS:${name}_${isa}>)
   endforeach()
   if(NOT HOULE_SIMD_ISAS)

@@ -4,7 +4,7 @@
     scripts/gen_spectral_tables.py [DATA_DIR]      (default DATA_DIR: /work/shared/data)
 
 Reads the research CSVs in DATA_DIR and writes
-  kernel/src/data/*.inc   C++ initialiser rows, one {...} per CSV row, values copied verbatim, with the
+  kernel/render/src/data/*.inc  C++ initialiser rows, one {...} per CSV row, values copied verbatim, with the
                           CSV's provenance comment lines kept at the top;
   tests/data/*.csv        the test vectors, copied byte for byte.
 The build never reads DATA_DIR: the outputs are committed. Standard library only.
@@ -15,7 +15,7 @@ import shutil
 import sys
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
-OUT_INC = REPO / "kernel" / "src" / "data"
+OUT_INC = REPO / "kernel" / "render" / "src" / "data"
 OUT_TEST = REPO / "tests" / "data"
 
 # (table file, source CSV, extra CSVs whose comment lines are provenance too, columns kept, row comment)
@@ -66,7 +66,7 @@ def main():
     OUT_TEST.mkdir(parents=True, exist_ok=True)
     for t in TABLES:
         n = write_table(data_dir, *t)
-        print(f"kernel/src/data/{t[0]}: {n} rows")
+        print(f"kernel/render/src/data/{t[0]}: {n} rows")
     for v in TEST_VECTORS:
         shutil.copyfile(data_dir / v, OUT_TEST / v)
         print(f"tests/data/{v}")

@@ -1,7 +1,7 @@
 // How far a rendered frame is from a reference, as a viewer sees it: both go through the default
 // display transform (tone map, sRGB curve) before they are compared.
 #pragma once
-#include "houle/kernel/framebuffer.hpp"
+#include "houle/render/framebuffer.hpp"
 
 namespace houle::accuracy {
 

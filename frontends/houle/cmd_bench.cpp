@@ -5,7 +5,7 @@
 
 #include "cli.hpp"
 #include "commands.hpp"
-#include "houle/kernel/isa.hpp"
+#include "houle/runtime/isa.hpp"
 #include "houle/sim/animation.hpp"
 #include "scene_source.hpp"
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "houle/kernel/expected.hpp"
-#include "houle/kernel/framebuffer.hpp"
+#include "houle/runtime/expected.hpp"
+#include "houle/render/framebuffer.hpp"
 
 namespace houle::cli {
 

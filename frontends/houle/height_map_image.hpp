@@ -2,7 +2,7 @@
 #pragma once
 #include <string>
 
-#include "houle/kernel/expected.hpp"
+#include "houle/runtime/expected.hpp"
 #include "houle/sim/scene.hpp"
 
 namespace houle::cli {

@@ -5,7 +5,7 @@
 #pragma once
 #include <cstddef>
 
-#include "houle/kernel/expected.hpp"
+#include "houle/runtime/expected.hpp"
 
 namespace houle::cli {
 

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "commands.hpp"
-#include "houle/kernel/isa.hpp"
+#include "houle/runtime/isa.hpp"
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <string_view>
 
-#include "houle/kernel/expected.hpp"
+#include "houle/runtime/expected.hpp"
 #include "houle/sim/scene.hpp"
 
 namespace houle::cli {

@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "houle/kernel/expected.hpp"
+#include "houle/runtime/expected.hpp"
 
 namespace houle::cli {
 

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "houle/kernel/colour.hpp"
+#include "houle/render/colour.hpp"
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/wave_rays.hpp"
 

@@ -9,7 +9,7 @@
 #include <thread>
 #include <utility>
 
-#include "houle/kernel/bulk_memory.hpp"
+#include "houle/runtime/bulk_memory.hpp"
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"

@@ -2,8 +2,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include <houle/kernel/gerstner.hpp>
-#include <houle/kernel/isa.hpp>
+#include <houle/surface/gerstner.hpp>
+#include <houle/runtime/isa.hpp>
 
 int main() {
   const houle::GerstnerWave wave{1.0f, 0.0f, 0.5f, 0.3f, 0.0f, 0.0f, 0.0f};

@@ -1,4 +1,4 @@
-// BulkLayout: arrays carved from one block (kernel/include/houle/kernel/bulk_memory.hpp).
+// BulkLayout: arrays carved from one block (houle/runtime/bulk_memory.hpp).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -6,7 +6,7 @@
 #include <numeric>
 #include <vector>
 
-#include "houle/kernel/bulk_memory.hpp"
+#include "houle/runtime/bulk_memory.hpp"
 
 #if defined(__linux__)
 #include <sys/mman.h>  // MADV_HUGEPAGE: where bulk_memory.cpp maps huge pages

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "houle/kernel/camera.hpp"
+#include "houle/surface/camera.hpp"
 
 namespace {
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "houle/kernel/capillary.hpp"
-#include "houle/kernel/isa.hpp"
+#include "houle/surface/capillary.hpp"
+#include "houle/runtime/isa.hpp"
 #include "ulp.hpp"
 
 namespace {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "houle/kernel/colour.hpp"
+#include "houle/render/colour.hpp"
 
 namespace {
 

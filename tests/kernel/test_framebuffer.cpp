@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "houle/kernel/framebuffer.hpp"
+#include "houle/render/framebuffer.hpp"
 
 namespace {
 

@@ -5,8 +5,8 @@
 #include <random>
 #include <vector>
 
-#include "houle/kernel/gerstner.hpp"
-#include "houle/kernel/isa.hpp"
+#include "houle/surface/gerstner.hpp"
+#include "houle/runtime/isa.hpp"
 #include "ulp.hpp"
 
 namespace {

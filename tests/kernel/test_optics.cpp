@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "houle/kernel/isa.hpp"
-#include "houle/kernel/optics.hpp"
+#include "houle/runtime/isa.hpp"
+#include "houle/render/optics.hpp"
 #include "ulp.hpp"
 
 namespace {

@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "allocation_counter.hpp"
-#include "houle/kernel/camera.hpp"
-#include "houle/kernel/capillary.hpp"
-#include "houle/kernel/colour.hpp"
-#include "houle/kernel/gerstner.hpp"
-#include "houle/kernel/renderer.hpp"
-#include "houle/kernel/surface_frame.hpp"
+#include "houle/surface/camera.hpp"
+#include "houle/surface/capillary.hpp"
+#include "houle/render/colour.hpp"
+#include "houle/surface/gerstner.hpp"
+#include "houle/render/renderer.hpp"
+#include "houle/surface/surface_frame.hpp"
 #include "scene_objects.hpp"
 
 namespace {

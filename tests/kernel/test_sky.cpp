@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "houle/kernel/colour.hpp"
-#include "houle/kernel/optics.hpp"
-#include "houle/kernel/sky.hpp"
+#include "houle/render/colour.hpp"
+#include "houle/render/optics.hpp"
+#include "houle/render/sky.hpp"
 
 namespace {
 

@@ -6,9 +6,9 @@
 #include <random>
 #include <vector>
 
-#include "houle/kernel/gerstner.hpp"
-#include "houle/kernel/isa.hpp"
-#include "houle/kernel/surface_frame.hpp"
+#include "houle/surface/gerstner.hpp"
+#include "houle/runtime/isa.hpp"
+#include "houle/surface/surface_frame.hpp"
 #include "coastal_waves.hpp"
 
 namespace {

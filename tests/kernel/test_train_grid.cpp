@@ -5,8 +5,8 @@
 #include <random>
 #include <vector>
 
-#include "houle/kernel/isa.hpp"
-#include "houle/kernel/train_grid.hpp"
+#include "houle/runtime/isa.hpp"
+#include "houle/surface/train_grid.hpp"
 #include "ulp.hpp"
 
 namespace {

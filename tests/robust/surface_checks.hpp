@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "houle/kernel/framebuffer.hpp"
+#include "houle/render/framebuffer.hpp"
 #include "houle/sim/animation.hpp"
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/dispersion.hpp"

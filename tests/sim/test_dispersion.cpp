@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "houle/kernel/isa.hpp"
+#include "houle/runtime/isa.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "dispersion_table.hpp"  // sim/src: the ray tracer's tabulated kh
 #include "ulp.hpp"

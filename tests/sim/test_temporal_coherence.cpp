@@ -14,8 +14,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "houle/kernel/camera.hpp"
-#include "houle/kernel/colour.hpp"
+#include "houle/surface/camera.hpp"
+#include "houle/render/colour.hpp"
 #include "houle/sim/animation.hpp"
 #include "houle/sim/scene.hpp"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "houle/kernel/gerstner.hpp"
+#include "houle/surface/gerstner.hpp"
 
 namespace houle::test {
 

@@ -3,7 +3,7 @@
 
 #include <cstdio>
 
-#include "houle/kernel/isa.hpp"
+#include "houle/runtime/isa.hpp"
 
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);

@@ -2,7 +2,7 @@
 // `make_table<A>()` in a source compiled once per ISA (cmake: houle_add_isa_library), and looks the
 // table up once; calls then go through a plain pointer, never through a new dispatch.
 #pragma once
-#include "houle/kernel/isa.hpp"
+#include "houle/runtime/isa.hpp"
 #include "houle/simd/simd.hpp"
 
 namespace houle::simd {

@@ -8,12 +8,12 @@
 #include <optional>
 #include <string_view>
 
-#include "houle/kernel/camera.hpp"
-#include "houle/kernel/capillary.hpp"
-#include "houle/kernel/expected.hpp"
-#include "houle/kernel/framebuffer.hpp"
-#include "houle/kernel/renderer.hpp"
-#include "houle/kernel/surface_frame.hpp"
+#include "houle/surface/camera.hpp"
+#include "houle/surface/capillary.hpp"
+#include "houle/runtime/expected.hpp"
+#include "houle/render/framebuffer.hpp"
+#include "houle/render/renderer.hpp"
+#include "houle/surface/surface_frame.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "houle/sim/wave_rays.hpp"

@@ -23,7 +23,7 @@
 #include <optional>
 #include <string_view>
 
-#include "houle/kernel/expected.hpp"
+#include "houle/runtime/expected.hpp"
 
 namespace houle {
 

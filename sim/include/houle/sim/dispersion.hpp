@@ -9,7 +9,7 @@
 #pragma once
 #include <cstddef>
 
-#include "houle/kernel/isa.hpp"
+#include "houle/runtime/isa.hpp"
 
 namespace houle {
 

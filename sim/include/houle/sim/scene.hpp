@@ -10,8 +10,8 @@
 #include <optional>
 #include <vector>
 
-#include "houle/kernel/colour.hpp"  // LinearRgb: linear (not gamma-encoded) RGB reflectance in [0, 1]
-#include "houle/kernel/expected.hpp"
+#include "houle/render/colour.hpp"  // LinearRgb: linear (not gamma-encoded) RGB reflectance in [0, 1]
+#include "houle/runtime/expected.hpp"
 #include "houle/sim/diffraction.hpp"
 
 namespace houle {

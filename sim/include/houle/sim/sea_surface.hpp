@@ -8,7 +8,7 @@
 // diffraction, land). Outside the domain a train continues as straight crests with its entry
 // wavenumber and amplitude (the tracer's own convention upstream of the domain).
 //
-// The shape along the rays is the depth-aware trochoid of houle/kernel/train_grid.hpp, which also
+// The shape along the rays is the depth-aware trochoid of houle/surface/train_grid.hpp, which also
 // evaluates the summed trains per frame (SIMD; only the phase changes per frame: omega t reduced in
 // double). Per node, once per scene: the fold Q = q k A coth(kh) (Airy orbits flatten into ellipses
 // whose horizontal axis is A coth kh) and the lean L = Q e^{-kh} (the crest leans shoreward as the
@@ -18,8 +18,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "houle/kernel/expected.hpp"
-#include "houle/kernel/train_grid.hpp"
+#include "houle/runtime/expected.hpp"
+#include "houle/surface/train_grid.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/sim/wave_rays.hpp"
 

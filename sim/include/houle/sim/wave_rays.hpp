@@ -59,7 +59,7 @@
 //   ever needed.
 // - Memory: the samples are staged per ray in chunks of 32 (slabs sized from an estimate, more
 //   slabs if it is exceeded; nothing moves) and copied per ray into one output block
-//   (houle/kernel/bulk_memory.hpp: huge pages, as first touches dominated the build); everything is bounded by the caps in DwtSettings
+//   (houle/runtime/bulk_memory.hpp: huge pages, as first touches dominated the build); everything is bounded by the caps in DwtSettings
 //   (dwt_bound): past a cap, insertion or tracing stops and DwtStats::truncated says so. This is
 //   scene-build work: nothing here runs per frame.
 //
@@ -71,7 +71,7 @@
 #include <span>
 #include <vector>
 
-#include "houle/kernel/expected.hpp"
+#include "houle/runtime/expected.hpp"
 #include "houle/sim/scene.hpp"
 
 namespace houle {
@@ -130,7 +130,7 @@ struct WaveRays {
   std::vector<std::int32_t> pierhead;      ///< DIFFRACTED rays: index into `pierheads`; -1 otherwise
 
   // Per sample: read-only views into one block (`sample_storage`, shared by copies; see
-  // houle/kernel/bulk_memory.hpp for why one block).
+  // houle/runtime/bulk_memory.hpp for why one block).
   std::span<const double> x, y;        ///< m
   std::span<const double> theta;       ///< rad, direction of the ray (of travel of the crest)
   std::span<const double> k;           ///< rad/m, local wavenumber

@@ -1,0 +1,164 @@
+// The renderer: a filled SurfaceFrame (plus capillary noise) and a camera in, a linear-RGB Framebuffer
+// out (paper section 4, eq. 10-12; rendering.md 3, 4.4, 5.4, 6).
+//
+// Per pixel and sample (eq. 10 with the sea as the special case, rendering.md 3.1):
+//   * the primary ray is intersected with the scene's objects (boxes, spheres and the floor grid where
+//     it rises above the sea's slab: land, beach) for t_max, then marched against the sea up to it;
+//   * a sea hit is shaded with the exact Fresnel split (eq. 11) of its eq. 8 normal:
+//       I = K_r I_r + K_t I_t + glint,
+//     I_r the reflected ray's radiance (objects, diffusely lit, or the baked sky), the glint the sun's
+//     analytic lobe (sky.hpp sun_glint) widened by the slope variance of the capillary octaves the LOD
+//     dropped at that pixel, and I_t eq. 12 along the refracted ray: K I_object + (1 - K) I_sea, with
+//     K = e^{-a(lambda) d} per wavelength through the WaterColourLut (or its RGB approximation), and
+//     I_sea alone when the refracted ray finds nothing;
+//   * an object hit is k_d C (I_a (1 + N_z) / 2 + I_sun (N.L) visibility): diffuse only (k_s = 0);
+//   * a ray that finds nothing sees the sky.
+// A camera under the sea sees the surface from below (total internal reflection outside Snell's
+// window, optics.hpp), objects and the floor through the water between, and I_sea beyond.
+//
+// Units: linear sRGB relative radiance with the scene's white = a white Lambertian surface lit by the
+// sun at normal incidence (colour.hpp's convention). The sky model's kcd/m^2 are converted with the
+// sun's illuminance (a Kasten-Young air mass and Rayleigh + Angstrom aerosol optical depths for the
+// turbidity); the sun's glint is pi x sun_glint in these units; I_sea is the WaterColourLut's I_sea
+// (luminance 0.1 of a white object) times the light a horizontal surface receives.
+//
+// Simplifications, on purpose (the real-time budget): secondary rays do not test the sea again, so a
+// reflected ray never meets another wave (one pointing below the horizon has its z clamped to
+// `min_reflected_dz` and is renormalised, rendering.md 3.3); objects are diffuse; light reaching
+// underwater objects is the flat-sea refraction of the sun attenuated along depth / cos(theta_sun,water)
+// (rendering.md 3.4's refinement) and is shadowed by objects only, not by the waves; sky light on
+// objects is the horizontal sky irradiance weighted by (1 + N_z) / 2.
+//
+// Threads: a persistent pool made by create() (no thread is started per frame); rows are handed out by
+// an atomic counter and every row is computed the same way whatever thread takes it, so the image is
+// identical for any thread count. render() allocates nothing and never fails; no NaN or Inf reaches
+// the framebuffer (non-finite samples are written as 0 and counted in last_counters()).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "houle/surface/camera.hpp"
+#include "houle/surface/capillary.hpp"
+#include "houle/render/colour.hpp"
+#include "houle/runtime/expected.hpp"
+#include "houle/render/framebuffer.hpp"
+#include "houle/surface/march.hpp"
+#include "houle/surface/surface_frame.hpp"
+
+namespace houle {
+
+/// A box oriented about z: its local axes are the world's x and y turned by yaw_rad (counter-clockwise
+/// seen from above) and z.
+struct RenderBox {
+  std::array<float, 3> center{};       ///< m
+  std::array<float, 3> half_extent{};  ///< m, each > 0, along the local axes
+  float yaw_rad = 0.0f;
+  LinearRgb colour{0.5f, 0.5f, 0.5f};  ///< diffuse reflectance k_d C, each channel in [0, 1]
+};
+
+struct RenderSphere {
+  std::array<float, 3> center{};  ///< m
+  float radius = 1.0f;            ///< m, > 0
+  LinearRgb colour{0.5f, 0.5f, 0.5f};  ///< diffuse reflectance, each channel in [0, 1]
+};
+
+/// The sea floor and land as a height grid built once per scene: z (m) of the ground, negative under
+/// the still sea. Sample (i, j) sits at (origin_x + i cell, origin_y + j cell) and is z[j nx + i];
+/// the ground between samples is bilinear, and outside the grid it is the nearest edge sample's z
+/// (the edges extend to infinity). nx = ny = 0: no floor at all (open sea, bottomless).
+struct FloorGrid {
+  float origin_x = 0.0f, origin_y = 0.0f;  ///< m
+  float cell = 1.0f;                       ///< m, > 0
+  std::uint32_t nx = 0, ny = 0;
+  std::vector<float> z;                    ///< nx * ny finite values, m
+  LinearRgb sand{0.55f, 0.5f, 0.4f};       ///< diffuse reflectance of the ground
+};
+
+struct RenderScene {
+  FloorGrid floor;
+  std::vector<RenderBox> boxes;
+  std::vector<RenderSphere> spheres;
+  std::array<float, 3> sun_direction{0.0f, 0.5f, 0.8660254f};  ///< towards the sun (normalised on use)
+  float turbidity = 3.0f;               ///< Preetham sky, in [1.7, 10]
+  /// 1/m at 440 nm, added to pure water's absorption as coloured dissolved organic matter
+  /// (a_g(lambda) = a_g(440) e^{-0.014 (lambda - 440)}, colour.hpp water_absorption), >= 0.
+  float water_extra_absorption = 0.0f;
+  float sea_dominant_wavelength_nm = 490.0f;  ///< I_sea's dominant wavelength (the paper's table), in [380, 780]
+};
+
+/// Accuracy knobs (DESIGN.md: explicit).
+struct RenderQuality {
+  MarchQuality march{};
+  int samples_per_pixel = 1;       ///< 1, 4 or 8, at fixed sub-pixel positions (averaged)
+  bool spectral_absorption = true;  ///< eq. 12 per wavelength (WaterColourLut), else three exponentials
+  bool shadows = true;              ///< shadow rays from lit points (and the glint) towards the sun
+  bool reflect_objects = true;      ///< reflected sea rays test the objects; else sky only
+};
+
+/// Wall-clock time of the last render() (steady_clock). The stages run interleaved row by row on every
+/// thread: a stage's figure is the time the threads spent in it, summed and divided by the thread count.
+struct FrameTimes {
+  double march_ms = 0.0;      ///< march_rays against the sea
+  double intersect_ms = 0.0;  ///< primary rays and their object / floor intersections (t_max)
+  double shade_ms = 0.0;      ///< Fresnel, secondary rays, sky, water colour, supersample averaging
+  double total_ms = 0.0;      ///< the whole call
+};
+
+/// What the last render() saw, in samples (pixels x samples per pixel).
+struct RenderCounters {
+  std::uint64_t sea = 0;        ///< primary ray met the sea surface (from above or below)
+  std::uint64_t object = 0;     ///< primary ray met an object or the floor first
+  std::uint64_t sky = 0;        ///< primary ray met nothing (the sky, or I_sea under water)
+  std::uint64_t nonfinite = 0;  ///< samples whose colour was NaN or Inf (written as 0): should stay 0
+};
+
+/// What render() writes: the image, or a debugging view.
+enum class RenderView : std::uint8_t {
+  shaded = 0,           ///< eq. 10
+  sea_reflectance = 1,  ///< K_r of the primary sea hit in all three channels (0 elsewhere)
+};
+
+class Renderer {
+ public:
+  /// The reflected sea ray's minimum z after clamping (see the file comment).
+  static constexpr float min_reflected_dz = 0.01f;
+  /// m: refracted and under-water rays that meet nothing within this see I_sea.
+  static constexpr float underwater_reach = 1000.0f;
+
+  /// Everything is allocated here: per-thread scratch, the sky table, the water colour table, the
+  /// floor's block bounds and a pool of `threads` workers counting the caller (0 means 1). Fails on an
+  /// invalid scene, quality, size or when a thread cannot be started.
+  static Expected<Renderer> create(const RenderScene& scene, std::uint32_t width, std::uint32_t height,
+                                   const RenderQuality& quality, unsigned threads);
+
+  Renderer(Renderer&&) noexcept;
+  Renderer& operator=(Renderer&&) noexcept;
+  ~Renderer();
+
+  /// One frame into `out` (sized width x height beforehand; nothing is written otherwise). `camera`
+  /// must have this renderer's width and height (nothing is written otherwise). `noise` may be null
+  /// (no capillary ripples); its level at each hit sets the glint's extra roughness with
+  /// `noise_params`, or with noise->params when that is null. No heap allocation; deterministic.
+  void render(const SurfaceFrame& surface, const CapillaryFrame* noise, const CapillaryParams* noise_params,
+              const Camera& camera, Framebuffer& out, RenderView view = RenderView::shaded) noexcept;
+
+  /// SurfaceFrame::fill on this renderer's threads (the per-frame retessellation shares them with
+  /// render()): `sampler` must allow concurrent calls. The frame is the same as fill() gives.
+  void fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept;
+
+  const FrameTimes& last_times() const noexcept;
+  const RenderCounters& last_counters() const noexcept;
+  std::uint32_t width() const noexcept;
+  std::uint32_t height() const noexcept;
+  unsigned threads() const noexcept;
+
+  struct Impl;
+
+ private:
+  explicit Renderer(std::unique_ptr<Impl> impl) noexcept;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace houle

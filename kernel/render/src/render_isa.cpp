@@ -1,0 +1,16 @@
+// Compiled once per ISA (HOULE_ISA_ID set by cmake/HouleIsa.cmake) and once without it (scalar).
+#define HOULE_ISA_SOURCE
+#include "houle/simd/dispatch.hpp"
+#include "optics_impl.hpp"
+#include "render_table.hpp"
+
+namespace houle::detail {
+namespace {
+template <class A>
+constexpr RenderTable make_render_table() {
+  return {&fresnel_batch<A>, &reflect_refract_batch<A>};
+}
+}  // namespace
+}  // namespace houle::detail
+
+HOULE_DEFINE_ISA_TABLE(houle::detail::RenderTable, houle::detail::make_render_table)

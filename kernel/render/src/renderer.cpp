@@ -1,0 +1,559 @@
+#include "houle/render/renderer.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <string>
+
+#include "houle/render/optics.hpp"
+#include "houle/render/sky.hpp"
+#include "scene_objects.hpp"
+#include "houle/runtime/thread_pool.hpp"
+
+namespace houle {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Vec3 = std::array<float, 3>;
+using detail::HitKind;
+using detail::SceneRay;
+using detail::SurfaceHit;
+
+constexpr float pi = std::numbers::pi_v<float>;
+
+// Fixed sub-pixel positions (pixel units from the pixel's corner): deterministic, so identical frames
+// give identical bytes. 4: the rotated grid; 8: Direct3D's standard 8x pattern.
+struct Offset {
+  float x, y;
+};
+constexpr Offset offsets_1[] = {{0.5f, 0.5f}};
+constexpr Offset offsets_4[] = {{0.375f, 0.125f}, {0.875f, 0.375f}, {0.125f, 0.625f}, {0.625f, 0.875f}};
+constexpr Offset offsets_8[] = {{0.5625f, 0.3125f}, {0.4375f, 0.6875f}, {0.8125f, 0.5625f}, {0.3125f, 0.1875f},
+                                {0.1875f, 0.8125f}, {0.0625f, 0.4375f}, {0.6875f, 0.9375f}, {0.9375f, 0.0625f}};
+
+// Extra-terrestrial solar illuminance (klx) and the sky light's transmission into the sea (the mean
+// Fresnel transmittance of a uniform sky, 1 - 0.066).
+constexpr double solar_constant_klx = 128.0;
+constexpr float sky_water_transmission = 0.934f;
+// The exposure never follows a sun near or below the horizon further down than this (klx): the sky
+// would otherwise be blown up without limit.
+constexpr double min_reference_klx = 10.0;
+
+LinearRgb operator*(LinearRgb a, float s) { return {a.r * s, a.g * s, a.b * s}; }
+LinearRgb operator*(LinearRgb a, LinearRgb b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
+LinearRgb operator+(LinearRgb a, LinearRgb b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
+float dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 normalized(Vec3 v) {
+  const float inv = 1.0f / std::sqrt(dot(v, v));
+  return {v[0] * inv, v[1] * inv, v[2] * inv};
+}
+SceneRay make_ray(const Vec3& o, const Vec3& n, float offset, const Vec3& d) {
+  return {double(o[0]) + double(n[0] * offset), double(o[1]) + double(n[1] * offset),
+          double(o[2]) + double(n[2] * offset), double(d[0]), double(d[1]), double(d[2])};
+}
+Vec3 along(const Vec3& o, const Vec3& d, float t) { return {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]}; }
+
+/// Direct sunlight's transmittance through the atmosphere per channel (R, G, B at 610, 550, 465 nm):
+/// Kasten-Young 1989 air mass, Rayleigh optical depth 0.008735 lambda^-4.08 (lambda in um) and the
+/// Angstrom aerosol term beta lambda^-1.3 with Preetham's beta = 0.04608 T - 0.04586. A sun below the
+/// horizon is taken on it.
+LinearRgb sun_transmittance(double cos_zenith, double turbidity) {
+  const double c = std::clamp(cos_zenith, 0.0, 1.0);
+  const double zenith_deg = std::acos(c) * 180.0 / std::numbers::pi;
+  const double air_mass = 1.0 / (c + 0.50572 * std::pow(96.07995 - zenith_deg, -1.6364));
+  const double beta = std::max(0.04608 * turbidity - 0.04586, 0.0);
+  const double lambda_um[3] = {0.610, 0.550, 0.465};
+  float t[3];
+  for (int k = 0; k < 3; ++k) {
+    const double tau = 0.008735 * std::pow(lambda_um[k], -4.08) + beta * std::pow(lambda_um[k], -1.3);
+    t[k] = float(std::exp(-air_mass * tau));
+  }
+  return {t[0], t[1], t[2]};
+}
+
+/// Sky irradiance on a horizontal surface (klx per channel: kcd/m^2 times sr), midpoint rule.
+LinearRgb sky_irradiance_klx(const PreethamSky& sky) {
+  constexpr int rows = 32, columns = 64;
+  double e[3] = {0.0, 0.0, 0.0};
+  const double d_theta = 0.5 * std::numbers::pi / rows, d_phi = 2.0 * std::numbers::pi / columns;
+  for (int i = 0; i < rows; ++i) {
+    const double theta = (i + 0.5) * d_theta;
+    const double w = std::cos(theta) * std::sin(theta) * d_theta * d_phi;
+    for (int j = 0; j < columns; ++j) {
+      const double phi = (j + 0.5) * d_phi;
+      const Vec3 v{float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)), float(std::cos(theta))};
+      const LinearRgb l = sky.radiance(v);
+      e[0] += w * l.r;
+      e[1] += w * l.g;
+      e[2] += w * l.b;
+    }
+  }
+  return {float(e[0]), float(e[1]), float(e[2])};
+}
+
+bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
+
+/// Per-thread row buffers (SoA, `width` entries each), sized once by create().
+struct alignas(64) Scratch {
+  enum Array { dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr, count };
+  std::vector<float> memory;
+  float* a[count] = {};
+  std::vector<float> accumulated;  // 3 per pixel
+  std::vector<MarchStatus> status;
+  std::vector<SurfaceHit> object;
+  std::int64_t march_ns = 0, intersect_ns = 0, shade_ns = 0;
+  RenderCounters counters;
+
+  explicit Scratch(std::uint32_t width) {
+    const std::size_t stride = (std::size_t(width) + 15) / 16 * 16;
+    memory.assign(stride * count, 0.0f);
+    for (int k = 0; k < count; ++k) a[k] = memory.data() + stride * std::size_t(k);
+    accumulated.assign(std::size_t(width) * 3, 0.0f);
+    status.assign(width, MarchStatus::miss);
+    object.assign(width, SurfaceHit{});
+  }
+};
+
+}  // namespace
+
+struct Renderer::Impl {
+  // Scene, fixed at create().
+  RenderQuality quality;
+  std::uint32_t width = 0, height = 0;
+  detail::SceneObjects objects;
+  SkyLut sky;
+  std::optional<WaterColourLut> water;  // no default state: set by create()
+  const Offset* offsets = offsets_1;
+  int samples = 1;
+  float max_distance = 1e5f;
+
+  // Light in the renderer's relative units (see renderer.hpp).
+  Vec3 sun{0.0f, 0.0f, 1.0f};
+  LinearRgb sun_rgb;          ///< a white surface facing the sun reflects this
+  LinearRgb ambient;          ///< a white horizontal surface reflects this of the sky's light
+  float sky_scale = 0.0f;     ///< sky kcd/m^2 -> relative radiance
+  Vec3 sun_water{0.0f, 0.0f, 1.0f};  ///< towards the sun under a flat sea (refracted)
+  LinearRgb sun_water_rgb;    ///< the sun's light after entering the sea
+  LinearRgb ambient_water;    ///< the sky's light after entering the sea
+  LinearRgb sea_lit;          ///< I_sea for this lighting
+  float sea_illumination = 0.0f;  ///< luminance on a white horizontal surface: scales I_sea
+  std::array<float, 3> rgb_absorption{};
+
+  std::unique_ptr<detail::ThreadPool> pool;
+  std::vector<std::unique_ptr<Scratch>> scratch;
+  FrameTimes times;
+  RenderCounters counters;
+
+  // The frame being rendered (set by render()).
+  const SurfaceFrame* surface = nullptr;
+  const CapillaryFrame* noise = nullptr;
+  const CapillaryParams* noise_params = nullptr;
+  Camera camera;
+  Framebuffer* out = nullptr;
+  RenderView view = RenderView::shaded;
+  MarchParams march;
+  bool camera_under = false;
+  double primary_floor_lo = 0.0;
+  std::atomic<std::uint32_t> next_row{0};
+
+  static void task(void* context, unsigned worker) noexcept;
+  void render_row(Scratch& s, std::uint32_t row) noexcept;
+  void shade_sample(Scratch& s) noexcept;
+  LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
+  LinearRgb sky_radiance(const Vec3& d) const noexcept { return sky.lookup(d) * sky_scale; }
+  LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept;
+  LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept;
+  LinearRgb through_water(LinearRgb object, float distance, float light_path) const noexcept;
+  LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept;
+  LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept;
+  float sun_path_in_water(const Vec3& p) const noexcept {
+    return sun_water[2] > 0.0f ? std::max(0.0f, -p[2]) / sun_water[2] : 0.0f;
+  }
+};
+
+// ---- Shading ----------------------------------------------------------------------------------
+
+LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept {
+  Vec3 n = h.normal;
+  if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};  // the side the ray sees
+  const LinearRgb albedo = objects.albedo(h);
+  LinearRgb light = ambient * (0.5f * (1.0f + n[2]));
+  const float cos_sun = dot(n, sun);
+  if (cos_sun > 0.0f) {
+    const float offset = 1e-3f + 1e-4f * h.t;
+    const bool lit = !quality.shadows || !objects.occluded(make_ray(p, n, offset, sun), 0.0, double(max_distance));
+    if (lit) light = light + sun_rgb * cos_sun;
+  }
+  return albedo * light;
+}
+
+LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept {
+  Vec3 n = h.normal;
+  if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};
+  const LinearRgb albedo = objects.albedo(h);
+  LinearRgb light = ambient_water * (0.5f * (1.0f + n[2]));
+  const float cos_sun = dot(n, sun_water);
+  if (cos_sun > 0.0f && sun_water[2] > 0.0f) {
+    // Shadows of boxes and spheres up to the still sea level. Not of the floor: the refracted sun is
+    // within 48 degrees of the zenith, steeper than sea beds, and a walk per pixel would cost as much as
+    // the refracted ray itself. The waves' own focusing and shadowing are ignored.
+    const float offset = 1e-3f + 1e-4f * h.t;
+    const double reach = double(std::max(0.0f, -p[2])) / double(sun_water[2]);
+    const bool lit = !quality.shadows || !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
+    if (lit) light = light + sun_water_rgb * cos_sun;
+  }
+  return albedo * light;
+}
+
+/// Eq. 12 for `object` seen through `distance` m of water, with the object's light having come down
+/// `light_path` m of water itself (rendering.md 3.4's refinement, exact in the LUT because K is a
+/// per-wavelength exponential): K(d + s) I_obj + (1 - K(d)) I_sea.
+LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float light_path) const noexcept {
+  if (quality.spectral_absorption) {
+    const LinearRgb sum = water->absorbed(object, distance + light_path) + water->sea_part(distance) * sea_illumination;
+    return gamut_map_to_grey(sum);
+  }
+  const float k[3] = {std::exp(-rgb_absorption[0] * distance), std::exp(-rgb_absorption[1] * distance),
+                      std::exp(-rgb_absorption[2] * distance)};
+  const float ks[3] = {std::exp(-rgb_absorption[0] * light_path), std::exp(-rgb_absorption[1] * light_path),
+                       std::exp(-rgb_absorption[2] * light_path)};
+  return {object.r * k[0] * ks[0] + sea_lit.r * (1.0f - k[0]), object.g * k[1] * ks[1] + sea_lit.g * (1.0f - k[1]),
+          object.b * k[2] * ks[2] + sea_lit.b * (1.0f - k[2])};
+}
+
+/// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky.
+LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
+  if (quality.reflect_objects) {
+    const SurfaceHit h = objects.intersect(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
+    if (h.kind != HitKind::none) return lit_in_air(h, along(p, d, h.t), d);
+  }
+  return sky_radiance(d);
+}
+
+/// Radiance arriving at p from direction d through water: eq. 12 on the floor or an object within
+/// reach, I_sea otherwise.
+LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
+  const SurfaceHit h =
+      objects.intersect(make_ray(p, offset_normal, offset, d), 0.0, double(std::min(underwater_reach, max_distance)));
+  if (h.kind == HitKind::none) return sea_lit;
+  const Vec3 q = along(p, d, h.t);
+  return through_water(lit_in_water(h, q, d), h.t, sun_path_in_water(q));
+}
+
+LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept {
+  const Vec3 d{s.a[Scratch::dx][i], s.a[Scratch::dy][i], s.a[Scratch::dz][i]};
+  const MarchStatus status = s.status[i];
+  const bool sea = status == MarchStatus::hit || status == MarchStatus::hit_from_below;
+  if (view == RenderView::sea_reflectance) {
+    c.sea += sea;
+    const float k = sea ? s.a[Scratch::kr][i] : 0.0f;
+    return {k, k, k};
+  }
+  if (!sea) {
+    const SurfaceHit& h = s.object[i];
+    if (h.kind == HitKind::none) {
+      ++c.sky;
+      return camera_under ? sea_lit : sky_radiance(d);
+    }
+    ++c.object;
+    const Vec3 p = along(camera.position, d, h.t);
+    if (!camera_under) return lit_in_air(h, p, d);
+    return through_water(lit_in_water(h, p, d), h.t, sun_path_in_water(p));
+  }
+  ++c.sea;
+  const float t = s.a[Scratch::t][i];
+  const Vec3 p{s.a[Scratch::hx][i], s.a[Scratch::hy][i], s.a[Scratch::hz][i]};
+  const Vec3 n{s.a[Scratch::nx][i], s.a[Scratch::ny][i], s.a[Scratch::nz][i]};
+  const float kr = s.a[Scratch::kr][i];
+  Vec3 r{s.a[Scratch::rx][i], s.a[Scratch::ry][i], s.a[Scratch::rz][i]};
+  Vec3 tr{s.a[Scratch::tx][i], s.a[Scratch::ty][i], s.a[Scratch::tz][i]};
+  const float offset = 1e-3f + 1e-4f * t;
+  const Vec3 n_down{-n[0], -n[1], -n[2]};
+  // Rays that must leave upwards are kept above the horizon: they would meet the sea again, which
+  // secondary rays do not trace (renderer.hpp).
+  const auto lift = [](Vec3& v) {
+    if (v[2] >= min_reflected_dz) return;
+    const float h2 = v[0] * v[0] + v[1] * v[1];
+    const float k = h2 > 0.0f ? std::sqrt((1.0f - min_reflected_dz * min_reflected_dz) / h2) : 0.0f;
+    v = {v[0] * k, v[1] * k, h2 > 0.0f ? min_reflected_dz : 1.0f};
+  };
+
+  if (status == MarchStatus::hit) {
+    lift(r);
+    const LinearRgb reflected = trace_air(p, n, offset, r);
+    const LinearRgb transmitted = kr < 1.0f ? trace_water(p, n_down, offset, tr) : LinearRgb{};
+    // The sun's glint, widened by the slope variance of the octaves the LOD left out at this pixel.
+    float glint = 0.0f;
+    const Vec3 v{-d[0], -d[1], -d[2]};
+    float variance = 0.0f;
+    if (noise != nullptr && noise_params != nullptr) variance = dropped_slope_variance(*noise_params, s.a[Scratch::level][i]);
+    const Vec3 half = normalized({v[0] + sun[0], v[1] + sun[1], v[2] + sun[2]});
+    const float cos_h = dot(n, half);
+    // Skip the lobe where it is below e^-30 of its peak (tan^2 / 2 sigma^2 > 30): most of the sea.
+    if (cos_h > 0.0f && (1.0f - cos_h * cos_h) < 60.0f * (variance + sun_disc_slope_variance) * cos_h * cos_h) {
+      glint = pi * sun_glint(n, v, sun, variance);
+      if (glint > 0.0f && quality.shadows && objects.occluded(make_ray(p, n, offset, sun), 0.0, double(max_distance))) {
+        glint = 0.0f;
+      }
+    }
+    return reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
+  }
+  // From below: the interface sent r back down into the sea and tr (outside Snell's window: none) up.
+  const LinearRgb reflected = trace_water(p, n_down, offset, r);
+  LinearRgb transmitted{};
+  if (kr < 1.0f) {
+    lift(tr);
+    transmitted = trace_air(p, n, offset, tr);
+  }
+  return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f);
+}
+
+void Renderer::Impl::shade_sample(Scratch& s) noexcept {
+  const std::size_t w = width;
+  float* const* a = s.a;
+  // Eq. 8 normals, bent towards the viewer's side where a steep facet would face away from the ray
+  // (rendering.md 3.3 (a)), then the exact Fresnel split for the whole row in one SIMD batch.
+  for (std::size_t i = 0; i < w; ++i) {
+    const MarchStatus st = s.status[i];
+    Vec3 n{0.0f, 0.0f, 1.0f};
+    if (st == MarchStatus::hit || st == MarchStatus::hit_from_below) {
+      n = normalized({-a[Scratch::gx][i], -a[Scratch::gy][i], 1.0f});
+      const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
+      // From above the ray must meet the normal head on (n.d < 0), from below the other way.
+      const float want = st == MarchStatus::hit ? -0.01f : 0.01f;
+      const float nd = dot(n, d);
+      if (st == MarchStatus::hit ? nd > want : nd < want) {
+        const float k = nd - want;
+        n = normalized({n[0] - k * d[0], n[1] - k * d[1], n[2] - k * d[2]});
+      }
+    }
+    a[Scratch::nx][i] = n[0];
+    a[Scratch::ny][i] = n[1];
+    a[Scratch::nz][i] = n[2];
+  }
+  const ReflectRefractInput in{a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::nx], a[Scratch::ny], a[Scratch::nz]};
+  reflect_refract(in, w, 1.0f, water_refractive_index,
+                  {a[Scratch::rx], a[Scratch::ry], a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz],
+                   a[Scratch::kr]});
+  float* acc = s.accumulated.data();
+  for (std::size_t i = 0; i < w; ++i) {
+    LinearRgb c = shade_primary(s, i, s.counters);
+    if (!finite(c)) {
+      ++s.counters.nonfinite;
+      c = {};
+    }
+    acc[3 * i] += c.r;
+    acc[3 * i + 1] += c.g;
+    acc[3 * i + 2] += c.b;
+  }
+}
+
+void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
+  const std::size_t w = width;
+  float* const* a = s.a;
+  std::fill(s.accumulated.begin(), s.accumulated.end(), 0.0f);
+  const MarchRays rays{a[Scratch::ox], a[Scratch::oy], a[Scratch::oz], a[Scratch::dx],
+                       a[Scratch::dy], a[Scratch::dz], a[Scratch::t_max]};
+  const MarchHits hits{a[Scratch::t],  a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::gx],
+                       a[Scratch::gy], s.status.data(), a[Scratch::level], nullptr};
+  for (int k = 0; k < samples; ++k) {
+    const auto t0 = Clock::now();
+    camera_row_rays(camera, row, 0, w, offsets[k].x, offsets[k].y, a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]);
+    // t_max for the marcher: the nearest object or land in front of the sea.
+    for (std::size_t i = 0; i < w; ++i) {
+      const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
+      s.object[i] = objects.intersect(make_ray(camera.position, d, 0.0f, d), 0.0, double(max_distance), primary_floor_lo);
+      a[Scratch::t_max][i] = s.object[i].kind != HitKind::none ? s.object[i].t : max_distance;
+    }
+    const auto t1 = Clock::now();
+    march_rays(*surface, march, rays, w, hits);
+    const auto t2 = Clock::now();
+    shade_sample(s);
+    const auto t3 = Clock::now();
+    s.intersect_ns += (t1 - t0).count();
+    s.march_ns += (t2 - t1).count();
+    s.shade_ns += (t3 - t2).count();
+  }
+  const auto t4 = Clock::now();
+  const float inv = 1.0f / float(samples);
+  float* dst = out->rgb.data() + std::size_t(row) * w * 3;
+  const float* acc = s.accumulated.data();
+  for (std::size_t i = 0; i < 3 * w; ++i) {
+    const float v = acc[i] * inv;
+    dst[i] = std::isfinite(v) ? v : 0.0f;  // a sum of finite samples can still overflow
+    if (!std::isfinite(v)) ++s.counters.nonfinite;
+  }
+  s.shade_ns += (Clock::now() - t4).count();
+}
+
+void Renderer::Impl::task(void* context, unsigned worker) noexcept {
+  Impl& r = *static_cast<Impl*>(context);
+  Scratch& s = *r.scratch[worker];
+  std::fill_n(s.a[Scratch::ox], r.width, r.camera.position[0]);
+  std::fill_n(s.a[Scratch::oy], r.width, r.camera.position[1]);
+  std::fill_n(s.a[Scratch::oz], r.width, r.camera.position[2]);
+  for (;;) {
+    const std::uint32_t row = r.next_row.fetch_add(1, std::memory_order_relaxed);
+    if (row >= r.height) break;
+    r.render_row(s, row);
+  }
+}
+
+// ---- Renderer ---------------------------------------------------------------------------------
+
+Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t width, std::uint32_t height,
+                                    const RenderQuality& quality, unsigned threads) {
+  constexpr std::uint32_t max_side = 1u << 15;
+  if (width == 0 || height == 0 || width > max_side || height > max_side) {
+    return Error{"size", "width and height in [1, 32768] pixels"};
+  }
+  auto impl = std::make_unique<Impl>();
+  switch (quality.samples_per_pixel) {
+    case 1:
+      impl->offsets = offsets_1;
+      break;
+    case 4:
+      impl->offsets = offsets_4;
+      break;
+    case 8:
+      impl->offsets = offsets_8;
+      break;
+    default:
+      return Error{"quality.samples_per_pixel", "1, 4 or 8"};
+  }
+  impl->samples = quality.samples_per_pixel;
+  impl->quality = quality;
+  impl->width = width;
+  impl->height = height;
+  const float md = quality.march.max_distance;
+  impl->max_distance = std::isfinite(md) && md > 0.0f ? std::min(md, 1e9f) : 1e5f;
+
+  auto objects = detail::SceneObjects::build(scene);
+  if (!objects) return objects.error();
+  impl->objects = std::move(objects.value());
+
+  auto sky = PreethamSky::make(double(scene.turbidity), scene.sun_direction);
+  if (!sky) return sky.error();
+  impl->sky.bake(sky.value());
+
+  WaterColourParams wp;
+  wp.sea_dominant_nm = double(scene.sea_dominant_wavelength_nm);
+  wp.cdom_absorption_440_per_m = double(scene.water_extra_absorption);
+  auto water = WaterColourLut::make(wp);
+  if (!water) {
+    const std::string field = water.error().field == "sea_dominant_nm" ? "sea_dominant_wavelength_nm"
+                              : water.error().field == "cdom_absorption_440_per_m" ? "water_extra_absorption"
+                                                                                     : water.error().field;
+    return Error{field, water.error().message};
+  }
+  impl->water = std::move(water.value());
+  impl->rgb_absorption = impl->water->rgb_absorption_per_m();
+
+  // Light. The relative unit is E_ref / pi (kcd/m^2) with E_ref the sun's illuminance (floored): a
+  // white Lambertian surface facing the sun then has luminance E_sun / E_ref (1 for a sun above ~15 deg).
+  Impl& r = *impl;
+  r.sun = sky->sun_direction();
+  const LinearRgb transmittance = sun_transmittance(double(r.sun[2]), double(scene.turbidity));
+  const double e_sun = solar_constant_klx * double(luminance(transmittance));
+  const double e_ref = std::max(e_sun, min_reference_klx);
+  r.sun_rgb = transmittance * float(solar_constant_klx / e_ref);
+  r.sky_scale = float(std::numbers::pi / e_ref);
+  r.ambient = sky_irradiance_klx(sky.value()) * float(1.0 / e_ref);
+  if (r.sun[2] > 0.0f) {
+    const ReflectRefract sun_in = reflect_refract({-r.sun[0], -r.sun[1], -r.sun[2]}, {0.0f, 0.0f, 1.0f});
+    r.sun_water = {-sun_in.refracted[0], -sun_in.refracted[1], -sun_in.refracted[2]};
+    r.sun_water_rgb = r.sun_rgb * (1.0f - sun_in.reflectance);
+  }
+  r.ambient_water = r.ambient * sky_water_transmission;
+  r.sea_illumination = luminance(r.sun_rgb) * std::max(r.sun[2], 0.0f) + luminance(r.ambient);
+  r.sea_lit = r.water->sea_colour() * r.sea_illumination;
+
+  auto pool = detail::ThreadPool::create(threads);
+  if (!pool) return pool.error();
+  r.pool = std::move(pool.value());
+  for (unsigned w = 0; w < r.pool->size(); ++w) r.scratch.push_back(std::make_unique<Scratch>(width));
+  return Renderer(std::move(impl));
+}
+
+Renderer::Renderer(std::unique_ptr<Impl> impl) noexcept : impl_(std::move(impl)) {}
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+Renderer::~Renderer() = default;
+
+const FrameTimes& Renderer::last_times() const noexcept { return impl_->times; }
+const RenderCounters& Renderer::last_counters() const noexcept { return impl_->counters; }
+std::uint32_t Renderer::width() const noexcept { return impl_->width; }
+std::uint32_t Renderer::height() const noexcept { return impl_->height; }
+unsigned Renderer::threads() const noexcept { return impl_->pool->size(); }
+
+void Renderer::fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept {
+  struct Fill {
+    SurfaceFrame* surface;
+    SurfaceSampler sampler;
+    void* context;
+    unsigned parts;
+  } fill{&surface, sampler, context, std::min(impl_->pool->size(), SurfaceFrame::max_fill_parts)};
+  surface.begin_fill();
+  impl_->pool->run(
+      [](void* c, unsigned worker) noexcept {
+        const Fill& f = *static_cast<const Fill*>(c);
+        if (worker < f.parts) f.surface->fill_part(f.sampler, f.context, worker, f.parts);
+      },
+      &fill);
+  surface.finish_frame();
+}
+
+void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, const CapillaryParams* noise_params,
+                      const Camera& camera, Framebuffer& out, RenderView view) noexcept {
+  const auto start = Clock::now();
+  Impl& r = *impl_;
+  r.times = {};
+  r.counters = {};
+  if (out.width != int(r.width) || out.height != int(r.height) || out.rgb.size() != std::size_t(r.width) * r.height * 3 ||
+      camera.width != r.width || camera.height != r.height) {
+    return;
+  }
+  r.surface = &surface;
+  r.noise = noise != nullptr && noise->octaves > 0 ? noise : nullptr;
+  r.noise_params = r.noise == nullptr ? nullptr : noise_params != nullptr ? noise_params : &noise->params;
+  r.camera = camera;
+  r.out = &out;
+  r.view = view;
+  r.march = {};
+  r.march.pixel_angle = camera.pixel_angle;
+  r.march.quality = r.quality.march;
+  r.march.noise = r.noise;
+  r.camera_under = camera.position[2] < surface.height_at(camera.position[0], camera.position[1]);
+  // Below the sea's slab a primary ray from above has crossed the sea: the floor matters only above it.
+  const float grid_min = surface.view().global.h_min;
+  const float noise_bound = r.noise != nullptr ? capillary_height_bound(r.noise->params, float(r.noise->octaves)) : 0.0f;
+  r.primary_floor_lo = r.camera_under ? -std::numeric_limits<double>::infinity()
+                                      : double(std::min(surface.z_min(), grid_min - noise_bound)) - 0.01;
+  for (auto& s : r.scratch) {
+    s->march_ns = s->intersect_ns = s->shade_ns = 0;
+    s->counters = {};
+  }
+  r.next_row.store(0, std::memory_order_relaxed);
+  r.pool->run(&Impl::task, &r);
+
+  double march_ns = 0.0, intersect_ns = 0.0, shade_ns = 0.0;
+  for (const auto& s : r.scratch) {
+    march_ns += double(s->march_ns);
+    intersect_ns += double(s->intersect_ns);
+    shade_ns += double(s->shade_ns);
+    r.counters.sea += s->counters.sea;
+    r.counters.object += s->counters.object;
+    r.counters.sky += s->counters.sky;
+    r.counters.nonfinite += s->counters.nonfinite;
+  }
+  const double n = double(r.scratch.size()) * 1e6;
+  r.times.march_ms = march_ns / n;
+  r.times.intersect_ms = intersect_ns / n;
+  r.times.shade_ms = shade_ns / n;
+  r.times.total_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace houle

@@ -1,0 +1,113 @@
+// The renderer's non-sea geometry: oriented boxes, spheres and the floor height grid (sea bed and
+// land), with nearest-hit and any-hit (shadow) queries for one ray at a time. Built once per scene;
+// queries allocate nothing and are exact: closed forms for boxes and spheres, found through a bounding
+// volume hierarchy (walls arrive as many boxes); the floor's bilinear cells solved as quadratics along
+// the ray, found by a hierarchical grid walk over a maximum mipmap of the heights (Tevs et al. 2008,
+// rendering.md 1.5, here on the CPU with a 2-D DDA per level).
+//
+// The arithmetic is double: rays here are few per pixel, and the grid walk and quadratics are then
+// robust for the long, grazing rays a low camera sends over the beach.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "houle/render/colour.hpp"
+#include "houle/runtime/expected.hpp"
+#include "houle/render/renderer.hpp"
+
+namespace houle::detail {
+
+struct SceneRay {
+  double ox = 0.0, oy = 0.0, oz = 0.0;  ///< m
+  double dx = 0.0, dy = 0.0, dz = 1.0;  ///< unit
+};
+
+enum class HitKind : std::uint8_t { none = 0, floor = 1, box = 2, sphere = 3 };
+
+struct SurfaceHit {
+  float t = std::numeric_limits<float>::infinity();  ///< m along the ray; +inf for none
+  HitKind kind = HitKind::none;
+  std::uint32_t index = 0;             ///< which box or sphere
+  std::array<float, 3> normal{0.0f, 0.0f, 1.0f};  ///< unit, outward (floor: up)
+};
+
+class SceneObjects {
+ public:
+  /// Blocks of each mipmap level per side of a block of the next: level k's blocks are
+  /// block_cells^k floor cells wide.
+  static constexpr int block_cells = 8;
+  static constexpr int max_levels = 8;
+
+  /// Validates the scene's geometry (field names as in RenderScene) and precomputes the floor bounds.
+  static Expected<SceneObjects> build(const RenderScene& scene);
+
+  /// The nearest hit with t in [t_min, t_max). The floor is searched only where the ray is at or
+  /// above floor_z_lo (m): a primary ray below the sea's slab has crossed the sea already.
+  SurfaceHit intersect(const SceneRay& ray, double t_min, double t_max,
+                       double floor_z_lo = -std::numeric_limits<double>::infinity()) const noexcept;
+  /// Whether anything lies on the ray with t in [t_min, t_max) (shadow rays); the floor only when
+  /// `floor` is set.
+  bool occluded(const SceneRay& ray, double t_min, double t_max, bool floor = true) const noexcept;
+  /// Diffuse reflectance of what was hit.
+  LinearRgb albedo(const SurfaceHit& hit) const noexcept;
+
+  bool has_floor() const noexcept { return nx_ > 0; }
+  /// The floor's z at (x, y) (bilinear, edges extended); -inf without a floor.
+  double floor_height(double x, double y) const noexcept;
+  double floor_z_min() const noexcept { return z_min_; }
+  double floor_z_max() const noexcept { return z_max_; }
+
+ private:
+  struct Box {
+    double cx, cy, cz, hx, hy, hz, cos_yaw, sin_yaw;
+    LinearRgb colour;
+  };
+  struct Sphere {
+    double cx, cy, cz, radius;
+    LinearRgb colour;
+  };
+  /// Nearest box or sphere hit in [t_min, t_max) (with `any`: the first found).
+  SurfaceHit hit_objects(const SceneRay& ray, double t_min, double t_max, bool any = false) const noexcept;
+  bool hit_box(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
+  bool hit_sphere(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
+  void build_bvh();
+  /// Nearest floor hit in [t_min, t_max) where the ray is at or above z_lo (t_max when none); writes
+  /// the normal on a hit when `normal` is not null.
+  double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo,
+                   std::array<float, 3>* normal) const noexcept;
+  float sample(std::int64_t i, std::int64_t j) const noexcept;
+  struct FloorQuery;
+  bool walk_level(int level, FloorQuery& q, double ta, double tb, std::int64_t steps) const noexcept;
+  bool hit_cell(FloorQuery& q, std::int64_t i, std::int64_t j, double ta, double tb) const noexcept;
+
+  std::vector<Box> boxes_;
+  std::vector<Sphere> spheres_;
+  // Bounding volume hierarchy over boxes and spheres (walls are many boxes). A node is a leaf when
+  // count > 0 (primitives_[first .. first + count)), else its children are nodes first, first + 1.
+  struct Node {
+    float lo[3] = {0.0f, 0.0f, 0.0f}, hi[3] = {0.0f, 0.0f, 0.0f};
+    std::uint32_t first = 0, count = 0;
+  };
+  static constexpr std::uint32_t sphere_bit = 0x80000000u;  // primitive ids: box index, or sphere index | bit
+  static constexpr int max_bvh_depth = 64;
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> primitives_;
+  // Floor.
+  double origin_x_ = 0.0, origin_y_ = 0.0, cell_ = 1.0;
+  std::int64_t nx_ = 0, ny_ = 0;  // samples per side
+  std::vector<float> z_;
+  // Maximum mipmap, levels 1 .. levels_ - 1 (level 0 is the cells themselves, bounded on the fly):
+  // block (bi, bj) of level k bounds samples bi B^k .. (bi + 1) B^k (clamped to the grid) in each axis,
+  // so a block bounds every cell inside it, and the clamped block of one beyond the grid bounds the
+  // edge samples that the extended floor repeats there. The top level has a single block.
+  int levels_ = 0;
+  std::int64_t level_nx_[max_levels] = {}, level_ny_[max_levels] = {};
+  std::vector<float> level_max_[max_levels];
+  double level_size_[max_levels] = {}, level_inv_size_[max_levels] = {};  // m and 1/m: cell_ B^k
+  double z_min_ = -std::numeric_limits<double>::infinity(), z_max_ = -std::numeric_limits<double>::infinity();
+  LinearRgb sand_{};
+};
+
+}  // namespace houle::detail

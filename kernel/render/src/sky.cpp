@@ -1,0 +1,227 @@
+#include "houle/render/sky.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "houle/render/optics.hpp"
+
+namespace houle {
+namespace {
+
+constexpr double pi = std::numbers::pi;
+// cos(sky_max_view_zenith_rad) = sin(0.001): the lowest view z the model is evaluated at.
+constexpr double min_view_z = 9.9999983333334168e-4;
+
+// Preetham et al. 1999, appendix A.2 (rendering.md 6.1): Perez coefficients linear in turbidity T,
+// rows A..E, columns (slope, intercept), for Y, x, y.
+constexpr double perez_coeffs[3][5][2] = {
+    {{0.1787, -1.4630}, {-0.3554, 0.4275}, {-0.0227, 5.3251}, {0.1206, -2.5771}, {-0.0670, 0.3703}},
+    {{-0.0193, -0.2592}, {-0.0665, 0.0008}, {-0.0004, 0.2125}, {-0.0641, -0.8989}, {-0.0033, 0.0452}},
+    {{-0.0167, -0.2608}, {-0.0950, 0.0092}, {-0.0079, 0.2102}, {-0.0441, -1.6537}, {-0.0109, 0.0529}},
+};
+// Zenith chromaticity: [T^2, T, 1] M [theta_s^3, theta_s^2, theta_s, 1]^T (the paper's digits).
+constexpr double zenith_x[3][4] = {
+    {0.00166, -0.00375, 0.00209, 0.0}, {-0.02903, 0.06377, -0.03202, 0.00394}, {0.11693, -0.21196, 0.06052, 0.25886}};
+constexpr double zenith_y[3][4] = {
+    {0.00275, -0.00610, 0.00317, 0.0}, {-0.04214, 0.08970, -0.04153, 0.00516}, {0.15346, -0.26756, 0.06670, 0.26688}};
+
+double zenith_chromaticity(const double (&m)[3][4], double t, double theta_s) {
+  const double tv[3] = {t * t, t, 1.0};
+  const double sv[4] = {theta_s * theta_s * theta_s, theta_s * theta_s, theta_s, 1.0};
+  double r = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 4; ++j) r += tv[i] * m[i][j] * sv[j];
+  }
+  return r;
+}
+
+/// The two factors of the Perez function F = (1 + A e^{B / cos theta}) (1 + C e^{D gamma} + E cos^2 gamma).
+double perez_theta(const double (&c)[5], double cos_theta) { return 1.0 + c[0] * std::exp(c[1] / cos_theta); }
+double perez_gamma(const double (&c)[5], double gamma) {
+  const double cg = std::cos(gamma);
+  return 1.0 + c[2] * std::exp(c[3] * gamma) + c[4] * cg * cg;
+}
+
+LinearRgb xyy_to_rgb(const SkyXyY& s) {
+  const double big_y = s.luminance_kcd;
+  const CieXyz xyz{s.x / s.y * big_y, big_y, (1.0 - s.x - s.y) / s.y * big_y};
+  const LinearRgb c = xyz_to_linear_srgb(xyz);
+  return {std::max(c.r, 0.0f), std::max(c.g, 0.0f), std::max(c.b, 0.0f)};
+}
+
+// Column coordinate of a view's azimuth: the "diamond angle" p in [0, 4), a monotonic stand-in for
+// atan2 made of one division and a copysign. With t = x / (|x| + |y|): p = 1 - t for y >= 0 and
+// 3 + t for y < 0 (p = 0 along +x, 1 along +y, 2 along -x, 3 along -y). Columns uniform in p are
+// 0.64x to 1.27x the spacing of uniform azimuth, which the accuracy test covers. A polynomial atan2
+// cost more, and its octant branches mispredict: reflected rays point every which way.
+float column_of_xy(float x, float y) {
+  const float t = x / std::max(std::fabs(x) + std::fabs(y), 1e-30f);
+  return 2.0f - std::copysign(1.0f, y) * (1.0f + t);
+}
+// The unit (x, y) direction of column coordinate p (the inverse of column_of_xy, for the bake).
+std::array<double, 2> xy_of_column(double p) {
+  const double t = p < 2.0 ? 1.0 - p : p - 3.0;
+  const double x = t, y = p < 2.0 ? 1.0 - std::fabs(t) : std::fabs(t) - 1.0;
+  const double len = std::hypot(x, y);
+  return {x / len, y / len};
+}
+
+// Row coordinate v in [0, 1] of a view with z component `z` (see SkyLut): z' = z rescaled from
+// [min_view_z, 1] to [0, 1], warped by w = z' (1 + k) / (z' + k), then v = 1 - sqrt(1 - w).
+// The sqrt makes rows about uniform in zenith angle near the zenith; the warp packs them towards the
+// horizon, where the Perez term 1 + A e^{B / cos(theta)} bends most. k = 0.35 was the best of
+// 0.1-0.6 (and of uniform theta, uniform z, smoothstep) by the 99th-percentile lookup error.
+constexpr double row_warp = 0.35;
+float row_of_z(float z) {
+  constexpr float z0 = float(min_view_z), scale = float(1.0 / (1.0 - min_view_z)), k = float(row_warp);
+  const float zr = std::min(std::max((z - z0) * scale, 0.0f), 1.0f);  // min/max: no branches
+  const float w = zr * (1.0f + k) / (zr + k);
+  return 1.0f - std::sqrt(std::max(1.0f - w, 0.0f));
+}
+double z_of_row(double v) {
+  const double w = 1.0 - (1.0 - v) * (1.0 - v);
+  return min_view_z + (1.0 - min_view_z) * (row_warp * w / (1.0 + row_warp - w));
+}
+
+}  // namespace
+
+Expected<PreethamSky> PreethamSky::make(double turbidity, std::array<float, 3> sun_direction) {
+  if (!(turbidity >= 1.7 && turbidity <= 10.0)) return Error{"turbidity", "a value in [1.7, 10]"};
+  const double sx = sun_direction[0], sy = sun_direction[1], sz = sun_direction[2];
+  const double len = std::sqrt(sx * sx + sy * sy + sz * sz);
+  if (!(len > 0.0) || !std::isfinite(len)) return Error{"sun_direction", "a finite non-zero vector"};
+
+  PreethamSky s;
+  s.turbidity_ = turbidity;
+  s.sun_unit_ = {sx / len, sy / len, sz / len};
+  s.sun_direction_ = {float(s.sun_unit_[0]), float(s.sun_unit_[1]), float(s.sun_unit_[2])};
+  const double theta_s = std::acos(std::clamp(s.sun_unit_[2], 0.0, 1.0));
+  s.sun_zenith_ = theta_s;
+  for (int k = 0; k < 3; ++k) {
+    for (int c = 0; c < 5; ++c) s.perez_[k][c] = perez_coeffs[k][c][0] * turbidity + perez_coeffs[k][c][1];
+  }
+  const double t = turbidity;
+  const double chi = (4.0 / 9.0 - t / 120.0) * (pi - 2.0 * theta_s);
+  s.zenith_.luminance_kcd = (4.0453 * t - 4.9710) * std::tan(chi) - 0.2155 * t + 2.4192;
+  s.zenith_.x = zenith_chromaticity(zenith_x, t, theta_s);
+  s.zenith_.y = zenith_chromaticity(zenith_y, t, theta_s);
+  const double zen[3] = {s.zenith_.luminance_kcd, s.zenith_.x, s.zenith_.y};
+  for (int k = 0; k < 3; ++k) {
+    // value(theta, gamma) = value_zenith F(theta, gamma) / F(0, theta_s)
+    s.scale_[k] = zen[k] / (perez_theta(s.perez_[k], 1.0) * perez_gamma(s.perez_[k], theta_s));
+  }
+  return s;
+}
+
+SkyXyY PreethamSky::evaluate(double view_zenith_rad, double gamma_rad) const noexcept {
+  const double ct = std::cos(view_zenith_rad);
+  double v[3];
+  for (int k = 0; k < 3; ++k) v[k] = scale_[k] * perez_theta(perez_[k], ct) * perez_gamma(perez_[k], gamma_rad);
+  return {v[0], v[1], v[2]};
+}
+
+SkyXyY PreethamSky::evaluate(std::array<float, 3> view) const noexcept {
+  double x = view[0], y = view[1], z = view[2];
+  if (!(z >= min_view_z)) {
+    // Lift onto the clamp cone at the same azimuth (straight down: any azimuth will do).
+    const double h = std::hypot(x, y);
+    const double r = std::sqrt(1.0 - min_view_z * min_view_z);
+    x = h > 0.0 ? x / h * r : r;
+    y = h > 0.0 ? y / h * r : 0.0;
+    z = min_view_z;
+  }
+  const double theta = std::acos(std::min(z, 1.0));
+  const double cos_gamma = x * sun_unit_[0] + y * sun_unit_[1] + z * sun_unit_[2];
+  return evaluate(theta, std::acos(std::clamp(cos_gamma, -1.0, 1.0)));
+}
+
+LinearRgb PreethamSky::radiance(std::array<float, 3> view) const noexcept { return xyy_to_rgb(evaluate(view)); }
+
+SkyLut::SkyLut() : texels_(std::size_t(height) * (width + 1) * 3, 0.0f) {}
+
+void SkyLut::bake(const PreethamSky& sky) noexcept {
+  // evaluate() per texel, with the zenith-angle factor of the Perez function hoisted out of each row:
+  // three exp() and one acos() per texel instead of six and two.
+  for (int j = 0; j < height; ++j) {
+    const double z = z_of_row(double(j) / (height - 1));
+    const double r = std::sqrt(std::max(1.0 - z * z, 0.0));
+    double row_scale[3];
+    for (int k = 0; k < 3; ++k) row_scale[k] = sky.scale_[k] * perez_theta(sky.perez_[k], z);
+    float* row = &texels_[std::size_t(j) * (width + 1) * 3];
+    for (int i = 0; i <= width; ++i) {
+      const auto xy = xy_of_column(4.0 * (i == width ? 0 : i) / width);  // the extra column repeats column 0
+      const double cos_gamma =
+          std::clamp(r * xy[0] * sky.sun_unit_[0] + r * xy[1] * sky.sun_unit_[1] + z * sky.sun_unit_[2], -1.0, 1.0);
+      const double gamma = std::acos(cos_gamma);
+      SkyXyY v;
+      double* out[3] = {&v.luminance_kcd, &v.x, &v.y};
+      for (int k = 0; k < 3; ++k) {
+        const double* c = sky.perez_[k];
+        *out[k] = row_scale[k] * (1.0 + c[2] * std::exp(c[3] * gamma) + c[4] * cos_gamma * cos_gamma);
+      }
+      const LinearRgb rgb = xyy_to_rgb(v);
+      row[3 * i] = rgb.r;
+      row[3 * i + 1] = rgb.g;
+      row[3 * i + 2] = rgb.b;
+    }
+  }
+}
+
+LinearRgb SkyLut::lookup(std::array<float, 3> d) const noexcept {
+  // max(0, NaN) is 0: a NaN direction reads texel (0, 0) rather than out of bounds.
+  const float fu = std::min(std::max(0.0f, column_of_xy(d[0], d[1]) * float(width / 4)), float(width));
+  const float fv = std::max(0.0f, row_of_z(d[2]) * float(height - 1));
+  const int i = std::min(int(fu), width - 1), j = std::min(int(fv), height - 2);
+  const float a = fu - float(i), b = fv - float(j);
+  const float* t00 = &texels_[(std::size_t(j) * (width + 1) + std::size_t(i)) * 3];
+  const float* t10 = t00 + 3;
+  const float* t01 = t00 + (width + 1) * 3;
+  const float* t11 = t01 + 3;
+  const auto bilerp = [&](int c) {
+    const float lo = t00[c] + a * (t10[c] - t00[c]);
+    const float hi = t01[c] + a * (t11[c] - t01[c]);
+    return lo + b * (hi - lo);
+  };
+  return {bilerp(0), bilerp(1), bilerp(2)};
+}
+
+// ---- Sun ----
+
+float gaussian_slope_density(float cos_theta_h, float slope_variance) noexcept {
+  if (!(cos_theta_h > 0.0f)) return 0.0f;
+  const float c2 = cos_theta_h * cos_theta_h;
+  const float tan2 = (1.0f - c2) / c2;
+  const float s = slope_variance;
+  return std::exp(-tan2 / (2.0f * s)) / (2.0f * std::numbers::pi_v<float> * s * c2 * c2);
+}
+
+namespace {
+/// Smith's Lambda for Gaussian (Beckmann) slopes of variance s per axis, seen at cosine c from the mean
+/// normal. Exact: Lambda = (e^{-a^2} / (a sqrt(pi)) - erfc(a)) / 2 with a = cot(theta) / sqrt(2 s);
+/// here Walter et al. 2007's rational fit of it (eq. 27; G1 within ~0.4 %), which needs no exp or erfc.
+float smith_lambda(float c, float s) {
+  const float a = c / std::sqrt(std::max((1.0f - c * c) * (2.0f * s), 1e-30f));
+  if (a >= 1.6f) return 0.0f;
+  return (1.0f - 1.259f * a + 0.396f * a * a) / (3.535f * a + 2.181f * a * a);
+}
+}  // namespace
+
+float sun_glint(std::array<float, 3> n, std::array<float, 3> v, std::array<float, 3> l, float slope_variance,
+                float n_outside, float n_inside) noexcept {
+  const float cos_v = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+  const float cos_l = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
+  if (!(cos_v > 0.0f) || !(cos_l > 0.0f)) return 0.0f;
+  float h[3] = {v[0] + l[0], v[1] + l[1], v[2] + l[2]};
+  const float h_len = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+  if (!(h_len > 0.0f)) return 0.0f;
+  for (float& c : h) c /= h_len;
+  const float cos_h = n[0] * h[0] + n[1] * h[1] + n[2] * h[2];
+  const float v_dot_h = v[0] * h[0] + v[1] * h[1] + v[2] * h[2];
+  const float s = std::max(slope_variance, 0.0f) + sun_disc_slope_variance;
+  const float d = gaussian_slope_density(cos_h, s);
+  const float shadowing = 1.0f / (1.0f + smith_lambda(cos_v, s) + smith_lambda(cos_l, s));
+  return fresnel_reflectance(v_dot_h, n_outside, n_inside) * d * shadowing / (4.0f * cos_v);
+}
+
+}  // namespace houle

@@ -1,0 +1,189 @@
+#include "houle/surface/march.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "houle/simd/dispatch.hpp"
+#include "surface_table.hpp"
+#include "march_context.hpp"
+#include "march_impl.hpp"
+
+namespace houle {
+namespace {
+
+/// Cone, knobs and noise: everything but the surface.
+void set_ray_params(detail::MarchContext& c, const MarchParams& p, float grid_min, float grid_max) noexcept {
+  // Knobs are clamped to sane values here: the frame loop has no error path.
+  const MarchQuality& q = p.quality;
+  c.pixel_angle = std::isfinite(p.pixel_angle) && p.pixel_angle > 0.0f ? p.pixel_angle : 0.0f;
+  c.cone_width = std::isfinite(p.cone_width) && p.cone_width > 0.0f ? p.cone_width : 0.0f;
+  c.step_fraction = std::isfinite(q.step_fraction) && q.step_fraction > 1e-6f ? q.step_fraction : 1e-6f;
+  c.min_step = std::isfinite(q.min_step) && q.min_step > 1e-7f ? q.min_step : 1e-7f;
+  c.max_distance = std::isfinite(q.max_distance) && q.max_distance > 0.0f ? std::min(q.max_distance, 1e9f) : 1e5f;
+  c.refine_iterations = std::clamp(q.refine_iterations, 0, 64);
+  c.max_steps = std::max(q.max_steps, 1);
+
+  float noise_total = 0.0f;
+  if (p.noise != nullptr && p.noise->octaves > 0) {
+    const CapillaryFrame& n = *p.noise;
+    const CapillaryParams& np = n.params;
+    c.noise = &n;
+    c.octaves = std::min<std::uint32_t>(n.octaves, CapillaryFrame::max_octaves);
+    float top = 0.0f;
+    for (std::uint32_t i = 0; i < c.octaves; ++i) {
+      // Octave i's share of the published bounds; the 1e-4 margin covers the float differences.
+      const float lo = capillary_height_bound(np, float(i)), hi = capillary_height_bound(np, float(i + 1));
+      const float slo = capillary_slope_bound(np, float(i)), shi = capillary_slope_bound(np, float(i + 1));
+      c.octave_height[i] = (hi - lo) * (1.0f + 1e-4f);
+      c.octave_slope[i] = (shi - slo) * (1.0f + 1e-4f);
+      noise_total += c.octave_height[i];
+      // level > i  <=>  log_k(lambda_1 sin / (N cone)) + 1 > i  <=>  cone / sin < (lambda_1 / N) k^(1 - i).
+      c.octave_cone[i] = float(double(np.base_wavelength) / double(np.samples_per_wavelength) *
+                               std::pow(double(np.lacunarity), 1.0 - double(i)) * (1.0 + 1e-3));
+      top = std::max(top, c.octave_height[i]);
+    }
+    const double log2_k = std::log2(double(np.lacunarity));
+    c.max_level = float(c.octaves);
+    c.level_offset = float(std::log2(double(np.base_wavelength) / double(np.samples_per_wavelength)) / log2_k + 1.0);
+    c.inv_log2_lacunarity = float(1.0 / log2_k);
+    // smoothstep' <= 1.5 on the one octave fading at a time; |dlevel/dt| = pixel_angle / (cone ln k).
+    c.level_rate = float(1.5 * double(top) / std::log(double(np.lacunarity)) * (1.0 + 1e-4));
+  }
+  c.z_lo = grid_min - noise_total;
+  c.z_hi = grid_max + noise_total;
+}
+
+detail::MarchContext make_context(const SurfaceFrame& frame, const MarchParams& p) noexcept {
+  const SurfaceFrameView v = frame.view();
+  detail::MarchContext c;
+  c.height = v.height;
+  c.grad_x = v.grad_x;
+  c.grad_y = v.grad_y;
+  c.tile_min = v.tile_min;
+  c.tile_max = v.tile_max;
+  c.tile_slope_x = v.tile_slope_x;
+  c.tile_slope_y = v.tile_slope_y;
+  c.stride = v.stride;
+  c.levels = v.levels;
+  c.cells = float(v.cells);
+  c.stride_f = float(v.stride);
+  c.tiles_per_side = float(v.tiles_per_side);
+  c.inv_tile_cells = 1.0f / float(v.tile_cells);
+  c.centre_x = v.centre_x;
+  c.centre_y = v.centre_y;
+  c.far_height = v.far_height;
+  for (std::uint32_t l = 0; l < v.levels; ++l) {
+    c.level_reach[l] = v.level[l].reach;
+    c.level_origin_x[l] = v.level[l].origin_x;
+    c.level_origin_y[l] = v.level[l].origin_y;
+  }
+  const SurfaceLevel& l0 = v.level[0];
+  c.inv_cell0 = float(1.0 / double(l0.cell));
+  c.tile_size0 = l0.cell * float(v.tile_cells);
+  c.reach0 = l0.reach;
+  c.level_floats = float(v.level_floats);
+  c.level_tiles = float(std::size_t(v.tiles_per_side) * v.tiles_per_side);
+  c.global = v.global;
+
+  set_ray_params(c, p, c.global.h_min, c.global.h_max);
+  return c;
+}
+
+const detail::SurfaceTable& table(Isa isa) noexcept { return simd::table_for<detail::SurfaceTable>(isa); }
+
+void march_row(const detail::SurfaceTable& k, const SurfaceFrame& frame, const Camera& cam, const MarchParams& params,
+               std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x, float sub_y, const MarchHits& hits) noexcept {
+  const detail::MarchContext c = make_context(frame, params);
+  constexpr std::size_t chunk = 256;  // on the stack: 7 KiB
+  float ox[chunk], oy[chunk], oz[chunk], dx[chunk], dy[chunk], dz[chunk];
+  std::fill(ox, ox + chunk, cam.position[0]);
+  std::fill(oy, oy + chunk, cam.position[1]);
+  std::fill(oz, oz + chunk, cam.position[2]);
+  for (std::size_t i = 0; i < n; i += chunk) {
+    const std::size_t m = std::min(chunk, n - i);
+    camera_row_rays(cam, row, x0 + std::uint32_t(i), m, sub_x, sub_y, dx, dy, dz);
+    const MarchRays rays{ox, oy, oz, dx, dy, dz, nullptr};
+    const auto at = [i](auto* p) { return p != nullptr ? p + i : p; };
+    const MarchHits h{at(hits.t),      at(hits.x),      at(hits.y),           at(hits.z),          at(hits.grad_x),
+                      at(hits.grad_y), at(hits.status), at(hits.noise_level), at(hits.evaluations)};
+    k.march_rays(c, rays, m, h);
+  }
+}
+
+}  // namespace
+
+void march_rays(const SurfaceFrame& frame, const MarchParams& params, const MarchRays& rays, std::size_t n,
+                const MarchHits& hits) noexcept {
+  simd::active_table<detail::SurfaceTable>().march_rays(make_context(frame, params), rays, n, hits);
+}
+
+void march_rays(Isa isa, const SurfaceFrame& frame, const MarchParams& params, const MarchRays& rays, std::size_t n,
+                const MarchHits& hits) noexcept {
+  table(isa).march_rays(make_context(frame, params), rays, n, hits);
+}
+
+void march_camera_row(const SurfaceFrame& frame, const Camera& camera, const MarchParams& params, std::uint32_t row,
+                      std::uint32_t x0, std::size_t n, float sub_x, float sub_y, const MarchHits& hits) noexcept {
+  march_row(simd::active_table<detail::SurfaceTable>(), frame, camera, params, row, x0, n, sub_x, sub_y, hits);
+}
+
+void march_camera_row(Isa isa, const SurfaceFrame& frame, const Camera& camera, const MarchParams& params,
+                      std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x, float sub_y,
+                      const MarchHits& hits) noexcept {
+  march_row(table(isa), frame, camera, params, row, x0, n, sub_x, sub_y, hits);
+}
+
+MarchProbe::MarchProbe(const SurfaceFrame& frame, const MarchParams& params)
+    : c_(std::make_unique<detail::MarchContext>(make_context(frame, params))) {}
+MarchProbe::~MarchProbe() = default;
+
+float MarchProbe::f(float ox, float oy, float oz, float dx, float dy, float dz, float t) const noexcept {
+  using S = simd::scalar;
+  bool finite = false;
+  const detail::MarchRay<S> r = detail::make_march_ray<S>(*c_, ox, oy, oz, dx, dy, dz, finite);
+  return detail::full_g<S>(*c_, r, t, 1.0f);
+}
+
+float MarchProbe::noise_level(float dz, float t) const noexcept {
+  if (c_->noise == nullptr) return 0.0f;
+  using S = simd::scalar;
+  bool finite = false;
+  const detail::MarchRay<S> r = detail::make_march_ray<S>(*c_, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, dz, finite);
+  return detail::noise_level<S>(*c_, r.level_offset, c_->cone_width + t * c_->pixel_angle);
+}
+
+float MarchProbe::noise_height_bound(float dz, float t) const noexcept {
+  using S = simd::scalar;
+  bool finite = false;
+  const detail::MarchRay<S> r = detail::make_march_ray<S>(*c_, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, dz, finite);
+  float h = 0.0f, g = 0.0f;
+  detail::noise_bounds<S>(*c_, (c_->cone_width + t * c_->pixel_angle) * r.inv_sin, h, g);
+  return h;
+}
+
+float MarchProbe::noise_slope_bound(float dz, float t) const noexcept {
+  using S = simd::scalar;
+  bool finite = false;
+  const detail::MarchRay<S> r = detail::make_march_ray<S>(*c_, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, dz, finite);
+  float h = 0.0f, g = 0.0f;
+  detail::noise_bounds<S>(*c_, (c_->cone_width + t * c_->pixel_angle) * r.inv_sin, h, g);
+  return g;
+}
+
+float MarchProbe::grid_height(float x, float y) const noexcept {
+  using S = simd::scalar;
+  const detail::Located<S> s = detail::locate<S>(*c_, x, y);
+  return detail::grid_field<S>(*c_, c_->height, s, c_->far_height);
+}
+
+float MarchProbe::slab_min() const noexcept { return c_->z_lo; }
+float MarchProbe::slab_max() const noexcept { return c_->z_hi; }
+
+float SurfaceFrame::height_at(float x, float y) const noexcept {
+  using S = simd::scalar;
+  const detail::MarchContext c = make_context(*this, MarchParams{});
+  const detail::Located<S> s = detail::locate<S>(c, x, y);
+  return detail::grid_field<S>(c, c.height, s, c.far_height);
+}
+
+}  // namespace houle

@@ -1,0 +1,518 @@
+// The packet ray marcher, written once for every width (included by surface_isa.cpp; march.cpp uses
+// the scalar instantiation for march_f). See houle/surface/march.hpp for the method.
+//
+// Determinism: a lane's result depends only on its own ray. Lanes that are done keep their state
+// through selects; branches on any() only skip work no active lane needs. Only +, -, *, simd::div,
+// comparisons, selects, exact float<->int conversions and loads are used (min/max are written as
+// selects so that signed zeros and NaN behave as in the scalar path), so every ISA gives the scalar bits.
+#pragma once
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+#include "capillary_impl.hpp"
+#include "houle/surface/march.hpp"
+#include "houle/simd/gather.hpp"
+#include "houle/simd/simd.hpp"
+#include "march_context.hpp"
+
+// The per-sample helpers are forced inline: out of line, their lane structs go through memory.
+#define HOULE_MARCH_INLINE inline __attribute__((always_inline))
+
+namespace houle::detail {
+
+// ---- Small lane helpers (templates on A: nothing here is emitted outside an ISA's own symbols) ----
+
+template <class A>
+using MarchIndex = simd::vint<A>;
+
+/// 2^l for integral l in [-126, 127], built from the exponent bits: exact.
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> march_pow2(simd::vfloat<A> l) {
+  const MarchIndex<A> i = simd::to_int_exact(l);
+#if HOULE_SIMD_BATCHES
+  if constexpr (!std::is_same_v<A, simd::scalar>) {
+    // A multiply, not a shift: gcc 12 warns inside the AVX-512 shift intrinsic (_mm512_undefined_epi32).
+    return xsimd::bitwise_cast<simd::vfloat<A>>((i + MarchIndex<A>(127)) * MarchIndex<A>(1 << 23));
+  } else
+#endif
+  {
+    const std::uint32_t bits = static_cast<std::uint32_t>(i + 127) << 23;
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+}
+
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> vmin(simd::vfloat<A> a, simd::vfloat<A> b) {
+  return simd::select(b < a, b, a);
+}
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> vmax(simd::vfloat<A> a, simd::vfloat<A> b) {
+  return simd::select(a < b, b, a);
+}
+
+/// log2(x) for x in [1e-30, 1e30] (clamped), absolute error < 2e-6: exponent from the bits, then
+/// 2/ln2 atanh(s), s = (m - 1)/(m + 1), m in [1, 2), as an odd series in s (|s| <= 1/3).
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> march_log2(simd::vfloat<A> x) {
+  using V = simd::vfloat<A>;
+  x = simd::select(x > 1e-30f, x, V(1e-30f));  // NaN too
+  x = simd::select(x < 1e30f, x, V(1e30f));
+  V e, m;
+#if HOULE_SIMD_BATCHES
+  if constexpr (!std::is_same_v<A, simd::scalar>) {
+    using I = xsimd::batch<std::int32_t, A>;
+    const I bits = xsimd::bitwise_cast<I>(x);
+    e = xsimd::batch_cast<float>((bits >> 23) - I(127));
+    m = xsimd::bitwise_cast<V>((bits & I(0x007fffff)) | I(0x3f800000));
+  } else
+#endif
+  {
+    std::uint32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    e = static_cast<float>(static_cast<std::int32_t>(bits >> 23) - 127);
+    const std::uint32_t mb = (bits & 0x007fffffu) | 0x3f800000u;
+    std::memcpy(&m, &mb, sizeof m);
+  }
+  const V s = simd::div(m - 1.0f, m + 1.0f);
+  const V s2 = s * s;
+  // 2/ln 2 times 1, 1/3, 1/5, 1/7, 1/9, 1/11.
+  const V p = 2.8853900817779268f +
+              s2 * (0.9617966939259756f +
+                    s2 * (0.5770780163555854f + s2 * (0.4121985831111324f + s2 * (0.3205988979753252f + s2 * 0.2623081892525388f))));
+  return e + s * p;
+}
+
+// ---- The surface as the marcher samples it ----
+
+/// Where one level is read at a point: node (i, j) offset and the fractions inside the cell.
+template <class A>
+struct GridTap {
+  MarchIndex<A> node;
+  simd::vfloat<A> fu, fv;
+  simd::vfloat<A> iu, iv;  ///< cell indices (floats)
+};
+
+template <class A>
+HOULE_MARCH_INLINE GridTap<A> grid_tap(const MarchContext& c, simd::vfloat<A> px, simd::vfloat<A> py, simd::vfloat<A> ox,
+                           simd::vfloat<A> oy, simd::vfloat<A> inv_cell, simd::vfloat<A> node_base) {
+  using V = simd::vfloat<A>;
+  const V n(c.cells), last(c.cells - 1.0f);
+  V u = (px - ox) * inv_cell, v = (py - oy) * inv_cell;
+  // Inside the grid by construction (reach); the clamps keep rounding, far lanes and NaN in bounds.
+  u = simd::select(u > 0.0f, u, V(0.0f));
+  u = simd::select(u < n, u, n);
+  v = simd::select(v > 0.0f, v, V(0.0f));
+  v = simd::select(v < n, v, n);
+  V iu = simd::floor_exact(u), iv = simd::floor_exact(v);
+  iu = simd::select(iu < last, iu, last);
+  iv = simd::select(iv < last, iv, last);
+  GridTap<A> t;
+  t.node = simd::to_int_exact(node_base + iv * c.stride_f + iu);
+  t.fu = u - iu;
+  t.fv = v - iv;
+  t.iu = iu;
+  t.iv = iv;
+  return t;
+}
+
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> bilinear(const float* field, std::size_t stride, const GridTap<A>& t) {
+  using V = simd::vfloat<A>;
+  const V h00 = simd::gather(field, t.node), h10 = simd::gather(field + 1, t.node);
+  const V h01 = simd::gather(field + stride, t.node), h11 = simd::gather(field + stride + 1, t.node);
+  const V a = h00 + t.fu * (h10 - h00), b = h01 + t.fu * (h11 - h01);
+  return a + t.fv * (b - a);
+}
+
+/// The level read at a point: level l for reach_{l-1} < r <= reach_l, r the Chebyshev distance to the
+/// centre; beyond the last reach, the far plane. (The SurfaceFrame morphs each level's outer band into
+/// the next level, so one level is read per sample and H is still continuous.)
+template <class A>
+struct Located {
+  using V = simd::vfloat<A>;
+  using M = simd::vmask<A>;
+  V level;     ///< index of the level read (the last one for far lanes)
+  M far;       ///< beyond the last level: the far plane
+  V ox, oy;    ///< the level's origin
+  V scale;     ///< 2^level
+  GridTap<A> tap;
+};
+
+template <class A>
+HOULE_MARCH_INLINE Located<A> locate(const MarchContext& c, simd::vfloat<A> px, simd::vfloat<A> py) {
+  using V = simd::vfloat<A>;
+  Located<A> s;
+  const V r = vmax<A>(simd::abs(px - c.centre_x), simd::abs(py - c.centre_y));
+  // The level is the number of reaches below r (they grow with the level); its origin follows in the
+  // same chain of selects (cheaper than gathers from the little tables).
+  V level(0.0f);
+  s.ox = V(c.level_origin_x[0]);
+  s.oy = V(c.level_origin_y[0]);
+  for (std::uint32_t k = 0; k + 1 < c.levels; ++k) {
+    const auto beyond = r > c.level_reach[k];
+    level = level + simd::select(beyond, V(1.0f), V(0.0f));
+    s.ox = simd::select(beyond, V(c.level_origin_x[k + 1]), s.ox);
+    s.oy = simd::select(beyond, V(c.level_origin_y[k + 1]), s.oy);
+  }
+  s.far = r > c.level_reach[c.levels - 1];
+  s.level = level;
+  s.scale = march_pow2<A>(level);
+  s.tap = grid_tap<A>(c, px, py, s.ox, s.oy, c.inv_cell0 * march_pow2<A>(V(0.0f) - level), level * c.level_floats);
+  return s;
+}
+
+/// A field (height, grad_x or grad_y) of the grid at a located point; `far_value` beyond the levels.
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> grid_field(const MarchContext& c, const float* field, const Located<A>& s,
+                                              float far_value) {
+  return simd::select(s.far, simd::vfloat<A>(far_value), bilinear<A>(field, c.stride, s.tap));
+}
+
+/// Bounds valid from the point along the ray up to s_box (m along the ray).
+template <class A>
+struct StepBounds {
+  simd::vfloat<A> h_min, h_max, slope_x, slope_y, s_box;
+};
+
+/// The tile bounds last gathered, per lane, and which tile they belong to (-1: none yet).
+template <class A>
+struct TileCache {
+  simd::vfloat<A> key = simd::vfloat<A>(-1.0f);  // (not braces: a batch's braces are an initializer list)
+  StepBounds<A> bounds = {simd::vfloat<A>(0.0f), simd::vfloat<A>(0.0f), simd::vfloat<A>(0.0f), simd::vfloat<A>(0.0f),
+                          simd::vfloat<A>(0.0f)};
+};
+
+template <class A>
+HOULE_MARCH_INLINE StepBounds<A> step_bounds(const MarchContext& c, const Located<A>& s, simd::vfloat<A> px,
+                                              simd::vfloat<A> py, simd::vfloat<A> dx, simd::vfloat<A> dy,
+                                              simd::vfloat<A> inv_dx, simd::vfloat<A> inv_dy, simd::vmask<A> active,
+                                              TileCache<A>& cache) {
+  using V = simd::vfloat<A>;
+  const V big(1e30f);
+  const V ti = simd::floor_exact(s.tap.iu * c.inv_tile_cells), tj = simd::floor_exact(s.tap.iv * c.inv_tile_cells);
+  const V key = s.level * c.level_tiles + tj * c.tiles_per_side + ti;
+  // A ray takes several steps per tile: gather only when some active lane has moved to another tile
+  // (lanes that have not get the same values again, so the result does not depend on the packet).
+  if (simd::any(active & (key != cache.key))) {
+    const MarchIndex<A> k = simd::to_int_exact(key);
+    cache.key = key;
+    cache.bounds.h_min = simd::gather(c.tile_min, k);
+    cache.bounds.h_max = simd::gather(c.tile_max, k);
+    cache.bounds.slope_x = simd::gather(c.tile_slope_x, k);
+    cache.bounds.slope_y = simd::gather(c.tile_slope_y, k);
+  }
+  StepBounds<A> b = cache.bounds;
+  // The tile, clipped to the level's reach (beyond it a coarser level's bounds apply).
+  const V tile = c.tile_size0 * s.scale, reach = c.reach0 * s.scale;  // exact: powers of two
+  const V x0 = s.ox + ti * tile, y0 = s.oy + tj * tile;
+  const V x_lo = vmax<A>(x0, c.centre_x - reach), x_hi = vmin<A>(x0 + tile, c.centre_x + reach);
+  const V y_lo = vmax<A>(y0, c.centre_y - reach), y_hi = vmin<A>(y0 + tile, c.centre_y + reach);
+  const V sx = simd::select(dx > 0.0f, (x_hi - px) * inv_dx, simd::select(dx < 0.0f, (x_lo - px) * inv_dx, big));
+  const V sy = simd::select(dy > 0.0f, (y_hi - py) * inv_dy, simd::select(dy < 0.0f, (y_lo - py) * inv_dy, big));
+  b.s_box = vmin<A>(sx, sy);
+  if (simd::any(s.far)) {
+    // Beyond the last level: the flat far plane if the ray moves away from the grids for good (it is
+    // outside the last reach on an axis along which it does not come back), else the global bounds.
+    const V R(c.level_reach[c.levels - 1]);
+    const V rx = px - c.centre_x, ry = py - c.centre_y;
+    const auto away = ((rx > R) & (dx >= 0.0f)) | ((rx < -R) & (dx <= 0.0f)) | ((ry > R) & (dy >= 0.0f)) |
+                      ((ry < -R) & (dy <= 0.0f));
+    const V fh(c.far_height);
+    b.h_min = simd::select(s.far, simd::select(away, fh, V(c.global.h_min)), b.h_min);
+    b.h_max = simd::select(s.far, simd::select(away, fh, V(c.global.h_max)), b.h_max);
+    b.slope_x = simd::select(s.far, simd::select(away, V(0.0f), V(c.global.slope_x)), b.slope_x);
+    b.slope_y = simd::select(s.far, simd::select(away, V(0.0f), V(c.global.slope_y)), b.slope_y);
+    b.s_box = simd::select(s.far, big, b.s_box);
+  }
+  return b;
+}
+
+// ---- Capillary noise: level from the footprint, bounds per level ----
+
+/// level = clamp(level_offset + (log2 sin_grazing - log2 footprint_width) / log2 k, 0, n_max); `ray_offset`
+/// holds the per-ray part level_offset + log2(sin) / log2 k.
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> noise_level(const MarchContext& c, simd::vfloat<A> ray_offset, simd::vfloat<A> cone) {
+  using V = simd::vfloat<A>;
+  V l = ray_offset - march_log2<A>(cone) * c.inv_log2_lacunarity;
+  l = simd::select(l > 0.0f, l, V(0.0f));
+  return simd::select(l < c.max_level, l, V(c.max_level));
+}
+
+/// Height and slope bounds of the noise at a sample whose cone width is `cone_per_sin` times the
+/// ray's sin(grazing): octave i counts while it can have weight (level > i), i.e. while the footprint
+/// is below its threshold (octave_cone, widened a little so that rounding of the level never leaves
+/// an octave out). Both fall as the ray goes on, so they hold for the rest of a step. No logarithm.
+template <class A>
+HOULE_MARCH_INLINE void noise_bounds(const MarchContext& c, simd::vfloat<A> cone_per_sin, simd::vfloat<A>& height,
+                                     simd::vfloat<A>& slope) {
+  using V = simd::vfloat<A>;
+  height = V(0.0f);
+  slope = V(0.0f);
+  for (std::uint32_t i = 0; i < c.octaves; ++i) {
+    const auto on = cone_per_sin < c.octave_cone[i];
+    height = height + simd::select(on, V(c.octave_height[i]), V(0.0f));
+    slope = slope + simd::select(on, V(c.octave_slope[i]), V(0.0f));
+  }
+}
+
+/// The two uses of capillary_impl.hpp (the only coupling to it): height alone while marching, height
+/// and gradient at the hit.
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> noise_height(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> level) {
+  return capillary_point<A, false>(f, x, y, level).height;
+}
+template <class A>
+HOULE_MARCH_INLINE CapillaryPoint<A> noise_point(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> level) {
+  return capillary_point<A, true>(f, x, y, level);
+}
+
+/// Per-ray constants.
+template <class A>
+struct MarchRay {
+  using V = simd::vfloat<A>;
+  V ox, oy, oz, dx, dy, dz, adx, ady, adz, inv_dx, inv_dy, level_offset, inv_sin;
+};
+
+/// Per-ray constants. Non-finite rays (x - x != 0 for inf and NaN) become inert (`finite` false).
+template <class A>
+inline MarchRay<A> make_march_ray(const MarchContext& c, simd::vfloat<A> ox, simd::vfloat<A> oy, simd::vfloat<A> oz,
+                                  simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz, simd::vmask<A>& finite) {
+  using V = simd::vfloat<A>;
+  const V zero(0.0f), one(1.0f);
+  finite = ((ox - ox) == zero) & ((oy - oy) == zero) & ((oz - oz) == zero) & ((dx - dx) == zero) &
+           ((dy - dy) == zero) & ((dz - dz) == zero);
+  MarchRay<A> r;
+  r.ox = simd::select(finite, ox, zero);
+  r.oy = simd::select(finite, oy, zero);
+  r.oz = simd::select(finite, oz, zero);
+  // Components below 1e-20 are taken as 0: their reciprocals stay finite and their exits infinite.
+  r.dx = simd::select(finite & (simd::abs(dx) >= 1e-20f), dx, zero);
+  r.dy = simd::select(finite & (simd::abs(dy) >= 1e-20f), dy, zero);
+  r.dz = simd::select(finite & (simd::abs(dz) >= 1e-20f), dz, zero);
+  r.adx = simd::abs(r.dx);
+  r.ady = simd::abs(r.dy);
+  r.adz = simd::abs(r.dz);
+  r.inv_dx = simd::div(one, simd::select(r.dx == zero, one, r.dx));
+  r.inv_dy = simd::div(one, simd::select(r.dy == zero, one, r.dy));
+  r.level_offset = zero;
+  r.inv_sin = zero;
+  if (c.noise != nullptr) {
+    const V sin_grazing = simd::select(r.adz > 1e-3f, r.adz, V(1e-3f));
+    r.level_offset = c.level_offset + march_log2<A>(sin_grazing) * c.inv_log2_lacunarity;
+    r.inv_sin = simd::div(one, sin_grazing);
+  }
+  return r;
+}
+
+/// The full (noise included) f at distance t, times sigma.
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> full_g(const MarchContext& c, const MarchRay<A>& r, simd::vfloat<A> t,
+                                          simd::vfloat<A> sigma) {
+  using V = simd::vfloat<A>;
+  const V px = r.ox + t * r.dx, py = r.oy + t * r.dy, pz = r.oz + t * r.dz;
+  const Located<A> s = locate<A>(c, px, py);
+  V f = pz - grid_field<A>(c, c.height, s, c.far_height);
+  if (c.noise != nullptr) {
+    const V level = noise_level<A>(c, r.level_offset, c.cone_width + t * c.pixel_angle);
+    f = f - noise_height<A>(*c.noise, px, py, level);
+  }
+  return sigma * f;
+}
+
+template <class A>
+struct MarchResult {
+  using V = simd::vfloat<A>;
+  V t, x, y, z, grad_x, grad_y, level, status, evaluations;
+};
+
+template <class A>
+inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, simd::vfloat<A> oy, simd::vfloat<A> oz,
+                                   simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz, simd::vfloat<A> t_max) {
+  using V = simd::vfloat<A>;
+  using M = simd::vmask<A>;
+  const V zero(0.0f), one(1.0f), big(1e30f);
+  const bool noise = c.noise != nullptr;
+
+  M finite(false);
+  const MarchRay<A> r = make_march_ray<A>(c, ox, oy, oz, dx, dy, dz, finite);
+  const V inv_dz = simd::div(one, simd::select(r.dz == zero, one, r.dz));
+
+  // The ray's end and its interval in the slab.
+  V t_end = simd::select(t_max < c.max_distance, t_max, V(c.max_distance));  // NaN: max_distance
+  t_end = simd::select(t_end > zero, t_end, zero);
+  const V t_top = (c.z_hi - r.oz) * inv_dz, t_bottom = (c.z_lo - r.oz) * inv_dz;
+  const M inside = (r.oz >= c.z_lo) & (r.oz <= c.z_hi);
+  const V t_enter = simd::select(r.dz > zero, t_bottom, simd::select(r.dz < zero, t_top, simd::select(inside, zero, big)));
+  const V t_exit = simd::select(r.dz > zero, t_top, simd::select(r.dz < zero, t_bottom, simd::select(inside, big, zero)));
+  const V t_in = vmax<A>(t_enter, zero), t_out = vmin<A>(t_exit, t_end);
+  M active = finite & (t_in < t_out);
+
+  V t = simd::select(active, t_in, zero);
+  V sigma = one, t_prev = t, g_prev = zero, a = zero, ga = zero, b = zero, gb = zero, evaluations = zero;
+  M crossed(false);
+  TileCache<A> tiles;
+  for (std::int32_t it = 0; it < c.max_steps && simd::any(active); ++it) {
+    const V px = r.ox + t * r.dx, py = r.oy + t * r.dy, pz = r.oz + t * r.dz;
+    const Located<A> s = locate<A>(c, px, py);
+    const V f_grid = pz - grid_field<A>(c, c.height, s, c.far_height);
+    const V cone = c.cone_width + t * c.pixel_angle;
+    // g: sigma f when it is known; outside the noise envelope a bound with the right sign.
+    V g, g_env, noise_h = zero, noise_s = zero, level_term = zero;
+    M near(true);
+    if (noise) {
+      noise_bounds<A>(c, cone * r.inv_sin, noise_h, noise_s);
+      near = simd::abs(f_grid) <= noise_h;
+      V f = f_grid;
+      if (simd::any(active & near)) {
+        // Inside the envelope: the noise itself, at the sample's level.
+        const V level = noise_level<A>(c, r.level_offset, cone);
+        f = simd::select(near, f_grid - noise_height<A>(*c.noise, px, py, level), f_grid);
+        // The level falls along the ray; its change moves the noise by at most this much per m.
+        level_term = simd::div(V(c.level_rate * c.pixel_angle), vmax<A>(cone, V(1e-20f)));
+      }
+      if (it == 0) sigma = simd::select(f >= zero, one, V(-1.0f));
+      g_env = sigma * f_grid - noise_h;
+      g = simd::select(near, sigma * f, g_env);
+    } else {
+      if (it == 0) sigma = simd::select(f_grid >= zero, one, V(-1.0f));
+      g = sigma * f_grid;
+      g_env = g;
+    }
+    evaluations = evaluations + simd::select(active, one, zero);
+
+    const M cross_now = active & (g <= zero);
+    a = simd::select(cross_now, t_prev, a);
+    ga = simd::select(cross_now, g_prev, ga);
+    b = simd::select(cross_now, t, b);
+    gb = simd::select(cross_now, g, gb);
+    crossed = crossed | cross_now;
+    active = active & !cross_now;
+    active = active & (t < t_out);  // the sample at t_out was the last
+    if (!simd::any(active)) break;
+
+    // The step: the largest distance that provably holds no crossing, within the bounds' box, but at
+    // least delta.
+    const StepBounds<A> bd = step_bounds<A>(c, s, px, py, r.dx, r.dy, r.inv_dx, r.inv_dy, active, tiles);
+    const V lip = vmax<A>(r.adz + bd.slope_x * r.adx + bd.slope_y * r.ady, V(1e-30f));
+    V safe = simd::select(g_env > zero, simd::div(g_env, lip), zero);
+    if (noise) {
+      const V lip_full = lip + noise_s * (r.adx + r.ady) + level_term;
+      safe = vmax<A>(safe, simd::select(near & (g > zero), simd::div(g, lip_full), zero));
+    }
+    const V top = simd::select(sigma > zero, bd.h_max + noise_h, bd.h_min - noise_h);
+    const V gap = sigma * (pz - top), rate = zero - sigma * r.dz;
+    safe = vmax<A>(safe, simd::select(gap > zero, simd::select(rate > zero, simd::div(gap, rate), big), zero));
+    const V delta = vmax<A>(c.step_fraction * cone, V(c.min_step));
+    const V step = vmax<A>(vmin<A>(safe, bd.s_box + 0.125f * delta), delta);
+    t_prev = simd::select(active, t, t_prev);
+    g_prev = simd::select(active, g, g_prev);
+    t = simd::select(active, vmin<A>(t + step, t_out), t);
+  }
+  const M exhausted = active;
+
+  // Illinois on [a, b]: g(a) > 0 >= g(b) (a == b when the ray starts on the surface).
+  V t_hit = b;
+  if (simd::any(crossed)) {
+    V side = zero;  // +1: b was replaced last, -1: a was
+    for (std::int32_t k = 0; k < c.refine_iterations; ++k) {
+      const V den = ga - gb;
+      V m = simd::select(den > zero, a + (b - a) * simd::div(ga, simd::select(den > zero, den, one)), a);
+      m = vmax<A>(vmin<A>(m, b), a);
+      const V gm = full_g<A>(c, r, m, sigma);
+      const M rb = crossed & (gm <= zero), ra = crossed & !(gm <= zero);
+      ga = simd::select(rb & (side > zero), ga * 0.5f, ga);  // b kept twice: halve the stale end's value
+      gb = simd::select(ra & (side < zero), gb * 0.5f, gb);
+      b = simd::select(rb, m, b);
+      gb = simd::select(rb, gm, gb);
+      a = simd::select(ra, m, a);
+      ga = simd::select(ra, gm, ga);
+      side = simd::select(rb, one, simd::select(ra, V(-1.0f), side));
+      evaluations = evaluations + simd::select(crossed, one, zero);
+    }
+    const V den = ga - gb;
+    t_hit = simd::select(den > zero, a + (b - a) * simd::div(ga, simd::select(den > zero, den, one)), a);
+    t_hit = vmax<A>(vmin<A>(t_hit, b), a);
+  }
+
+  MarchResult<A> out;
+  out.t = simd::select(crossed, t_hit, simd::select(exhausted, t, t_end));
+  out.x = r.ox + out.t * r.dx;
+  out.y = r.oy + out.t * r.dy;
+  out.z = r.oz + out.t * r.dz;
+  out.grad_x = zero;
+  out.grad_y = zero;
+  out.level = zero;
+  if (simd::any(crossed)) {
+    // The eq. 8 normal: gradients add. Grid gradients are interpolated (and morphed) like the heights.
+    const Located<A> s = locate<A>(c, out.x, out.y);
+    V gx = grid_field<A>(c, c.grad_x, s, 0.0f);
+    V gy = grid_field<A>(c, c.grad_y, s, 0.0f);
+    if (noise) {
+      const V level = noise_level<A>(c, r.level_offset, c.cone_width + out.t * c.pixel_angle);
+      const CapillaryPoint<A> n = noise_point<A>(*c.noise, out.x, out.y, level);
+      gx = gx + n.grad_x;
+      gy = gy + n.grad_y;
+      out.level = simd::select(crossed, level, zero);
+    }
+    out.grad_x = simd::select(crossed, gx, zero);
+    out.grad_y = simd::select(crossed, gy, zero);
+    evaluations = evaluations + simd::select(crossed, one, zero);
+  }
+  out.status = simd::select(crossed, simd::select(sigma > zero, one, V(2.0f)), simd::select(exhausted, V(3.0f), zero));
+  out.evaluations = evaluations;
+  return out;
+}
+
+/// n rays in packets of the ISA's width; the tail goes through the same code on a padded copy.
+template <class A>
+void march_rays(const MarchContext& c, const MarchRays& rays, std::size_t n, const MarchHits& hits) noexcept {
+  using V = simd::vfloat<A>;
+  constexpr std::size_t W = simd::width<A>;
+  alignas(64) float in[7][W];
+  alignas(64) float res[9][W];
+  for (std::size_t i = 0; i < n; i += W) {
+    const std::size_t lanes = std::min(W, n - i);
+    const float* src[7] = {rays.ox + i, rays.oy + i, rays.oz + i, rays.dx + i, rays.dy + i, rays.dz + i,
+                           rays.t_max != nullptr ? rays.t_max + i : nullptr};
+    for (std::size_t l = 0; l < lanes; ++l) {
+      for (int k = 0; k < 6; ++k) in[k][l] = src[k][l];
+      in[6][l] = src[6] != nullptr ? src[6][l] : c.max_distance;
+    }
+    // Padding lanes: a ray going up from above the slab, done before the first sample.
+    for (std::size_t l = lanes; l < W; ++l) {
+      in[0][l] = c.centre_x;
+      in[1][l] = c.centre_y;
+      in[2][l] = c.z_hi + 1.0f;
+      in[3][l] = 0.0f;
+      in[4][l] = 0.0f;
+      in[5][l] = 1.0f;
+      in[6][l] = 0.0f;
+    }
+    const MarchResult<A> m = march_packet<A>(c, simd::load<A>(in[0]), simd::load<A>(in[1]), simd::load<A>(in[2]),
+                                             simd::load<A>(in[3]), simd::load<A>(in[4]), simd::load<A>(in[5]),
+                                             simd::load<A>(in[6]));
+    const V* fields[9] = {&m.t, &m.x, &m.y, &m.z, &m.grad_x, &m.grad_y, &m.level, &m.status, &m.evaluations};
+    for (int k = 0; k < 9; ++k) simd::store<A>(res[k], *fields[k]);
+    for (std::size_t l = 0; l < lanes; ++l) {
+      if (hits.t != nullptr) hits.t[i + l] = res[0][l];
+      if (hits.x != nullptr) hits.x[i + l] = res[1][l];
+      if (hits.y != nullptr) hits.y[i + l] = res[2][l];
+      if (hits.z != nullptr) hits.z[i + l] = res[3][l];
+      if (hits.grad_x != nullptr) hits.grad_x[i + l] = res[4][l];
+      if (hits.grad_y != nullptr) hits.grad_y[i + l] = res[5][l];
+      if (hits.noise_level != nullptr) hits.noise_level[i + l] = res[6][l];
+      if (hits.status != nullptr) hits.status[i + l] = static_cast<MarchStatus>(static_cast<std::uint8_t>(res[7][l]));
+      if (hits.evaluations != nullptr) hits.evaluations[i + l] = static_cast<std::uint32_t>(res[8][l]);
+    }
+  }
+}
+
+}  // namespace houle::detail
+
+#undef HOULE_MARCH_INLINE
