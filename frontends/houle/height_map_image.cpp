@@ -27,7 +27,7 @@ struct Pixels {
 
 }  // namespace
 
-Expected<HeightMap> load_height_map(const std::string& path, const HeightMapImage& how) {
+Expected<HeightMap> load_height_map(const std::string& path, const HeightMapFile& how) {
   Expected<const ImageModule*> module = image_module();
   if (!module) return module.error();
   Pixels pixels;
@@ -44,6 +44,7 @@ Expected<HeightMap> load_height_map(const std::string& path, const HeightMapImag
   map.ny = std::uint32_t(pixels.height);
   map.origin = how.origin;
   map.cell = how.cell;
+  map.mode = how.mode;
   map.depth.resize(std::size_t(map.nx) * map.ny);
   // The grey level; the image's first row is the north edge.
   for (std::uint32_t j = 0; j < map.ny; ++j) {
@@ -55,7 +56,7 @@ Expected<HeightMap> load_height_map(const std::string& path, const HeightMapImag
   return map;
 }
 #else
-Expected<HeightMap> load_height_map(const std::string& path, const HeightMapImage&) {
+Expected<HeightMap> load_height_map(const std::string& path, const HeightMapFile&) {
   return Error{path, "this houle was built without OpenImageIO, so it cannot read height map images"};
 }
 #endif

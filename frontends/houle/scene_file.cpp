@@ -6,12 +6,15 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
 #define TOML_HEADER_ONLY 1
 #define TOML_EXCEPTIONS 0  // errors as parse_result values, like the rest of houle
 #include <toml++/toml.h>
 
 #include "height_map_image.hpp"
+#include "houle/sim/scene_keys.hpp"
 #include "toml_ascii.hpp"
 
 namespace houle::cli {
@@ -31,6 +34,17 @@ struct Context {
   Where at(const toml::node& n) const { return {n.source().begin.line, n.source().begin.column}; }
   void fail(Where w, const std::string& field, const std::string& what) {
     if (!error) error = Error{file + ":" + std::to_string(w.line) + ":" + std::to_string(w.column), field + ": " + what};
+  }
+  // Where a field the checks name is in the file: the deepest part of its path the file wrote
+  // ("trains[1].period", else "trains[1]", else the file's start: a default value that is wrong with
+  // the others).
+  Where place(std::string path) const {
+    while (!path.empty()) {
+      if (const auto it = where.find(path); it != where.end()) return it->second;
+      const auto cut = path.find_last_of(".[");
+      path = cut == std::string::npos ? std::string() : path.substr(0, cut);
+    }
+    return {1, 1};
   }
 };
 
@@ -53,7 +67,7 @@ class Reader {
     ctx_.where[path_] = ctx_.at(t);
   }
 
-  void number(const char* key, double& out) {
+  void read(std::string_view key, double& out) {
     if (const toml::node* n = get(key)) {
       if (auto v = n->value<double>(); v && (n->is_floating_point() || n->is_integer())) {
         out = *v;
@@ -62,15 +76,16 @@ class Reader {
       }
     }
   }
-  void number(const char* key, std::optional<double>& out) {
+  void read(std::string_view key, std::optional<double>& out) {
     if (get(key)) {
       double v = 0.0;
-      number(key, v);
+      read(key, v);
       out = v;
     }
   }
   template <class Int>
-  void integer(const char* key, Int& out) {
+    requires std::is_integral_v<Int> && (!std::is_same_v<Int, bool>)
+  void read(std::string_view key, Int& out) {
     if (const toml::node* n = get(key)) {
       const auto v = n->value_exact<std::int64_t>();
       if (!v || *v < std::int64_t(std::numeric_limits<Int>::min()) || *v > std::int64_t(std::numeric_limits<Int>::max())) {
@@ -80,35 +95,101 @@ class Reader {
       }
     }
   }
-  void boolean(const char* key, bool& out) {
+  void read(std::string_view key, bool& out) {
     if (const toml::node* n = get(key)) {
       if (const auto v = n->value_exact<bool>()) out = *v; else wrong(*n, key, "true or false");
     }
   }
-  std::optional<std::string> string(const char* key) {
+  void read(std::string_view key, std::string& out) {
     if (const toml::node* n = get(key)) {
-      if (const auto v = n->value_exact<std::string>()) return *v;
-      wrong(*n, key, "a string");
+      if (const auto v = n->value_exact<std::string>()) out = *v; else wrong(*n, key, "a string");
     }
-    return std::nullopt;
   }
   template <class E>
-  void choice(const char* key, E& out, std::initializer_list<std::pair<const char*, E>> options) {
+  void choice(std::string_view key, E& out, std::span<const scene_keys::Choice> choices) {
     const toml::node* n = get(key);
-    const std::optional<std::string> s = string(key);
-    if (!s) return;
+    if (!n) return;
+    const auto s = n->value_exact<std::string>();
+    if (!s) return wrong(*n, key, "a string");
     std::string list;
-    for (const auto& [name, value] : options) {
-      if (*s == name) {
-        out = value;
+    for (const scene_keys::Choice& c : choices) {
+      if (*s == c.name) {
+        out = E(c.value);
         return;
       }
-      list += (list.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+      list += (list.empty() ? "\"" : ", \"") + std::string(c.name) + "\"";
     }
-    wrong(*n, key, "one of " + list + ", got \"" + *s + "\"");
+    ctx_.fail(ctx_.at(*n), field(key), "expected one of " + list + ", got \"" + *s + "\"");
+  }
+  void read(std::string_view key, Point2& p) {
+    double v[2];
+    if (numbers(key, v, 2)) p = {v[0], v[1]};
+  }
+  void read(std::string_view key, std::optional<Point2>& p) {
+    double v[2];
+    if (numbers(key, v, 2)) p = Point2{v[0], v[1]};
+  }
+  void read(std::string_view key, Point3& p) {
+    double v[3];
+    if (numbers(key, v, 3)) p = {v[0], v[1], v[2]};
+  }
+  void read(std::string_view key, LinearRgb& c) {
+    double v[3];
+    if (numbers(key, v, 3)) c = {float(v[0]), float(v[1]), float(v[2])};
+  }
+  /// Array of [x, y] pairs.
+  void read(std::string_view key, std::vector<Point2>& out) {
+    const toml::node* n = get(key);
+    if (!n) return;
+    const toml::array* a = n->as_array();
+    bool ok = a != nullptr;
+    for (std::size_t i = 0; ok && i < a->size(); ++i) {
+      const toml::array* p = (*a)[i].as_array();
+      ok = p && p->size() == 2 && (*p)[0].value<double>() && (*p)[1].value<double>() && !(*p)[0].is_string() && !(*p)[1].is_string();
+      if (ok) out.push_back({*(*p)[0].value<double>(), *(*p)[1].value<double>()});
+    }
+    if (!ok) wrong(*n, key, "an array of [x, y] points");
+  }
+  /// A sub-table, or null if absent (an error if the key holds something else).
+  const toml::table* table(std::string_view key) {
+    const toml::node* n = get(key);
+    if (n && !n->is_table()) wrong(*n, key, "a table");
+    return n ? n->as_table() : nullptr;
+  }
+  /// Each table of an array of tables ([[key]]), with its field path "key[i]".
+  template <class F>
+  void tables(std::string_view key, F&& each) {
+    const toml::node* n = get(key);
+    if (!n) return;
+    const toml::array* a = n->as_array();
+    if (!a || !a->is_array_of_tables()) {
+      wrong(*n, key, "an array of tables ([[" + field(key) + "]])");
+      return;
+    }
+    for (std::size_t i = 0; i < a->size(); ++i) each(*(*a)[i].as_table(), field(key) + "[" + std::to_string(i) + "]");
+  }
+  std::string field(std::string_view key) const { return path_.empty() ? std::string(key) : path_ + "." + std::string(key); }
+  bool has(std::string_view key) const { return t_.contains(key); }
+  Where where() const { return ctx_.at(t_); }
+
+  void finish() {
+    for (const auto& [key, node] : t_) {
+      if (!read_.count(std::string(key.str()))) {
+        ctx_.fail({key.source().begin.line, key.source().begin.column}, field(key.str()),
+                  "unknown key (see docs/scenes.md)");
+      }
+    }
+  }
+
+ private:
+  const toml::node* get(std::string_view key) {
+    read_.insert(std::string(key));
+    const toml::node* n = t_.get(key);
+    if (n) ctx_.where[field(key)] = ctx_.at(*n);
+    return n;
   }
   /// [x, y] or [x, y, z] (n numbers).
-  bool numbers(const char* key, double* out, std::size_t count) {
+  bool numbers(std::string_view key, double* out, std::size_t count) {
     const toml::node* n = get(key);
     if (!n) return false;
     const toml::array* a = n->as_array();
@@ -121,74 +202,7 @@ class Reader {
     if (!ok) wrong(*n, key, "an array of " + std::to_string(count) + " numbers");
     return ok;
   }
-  void point(const char* key, Point2& p) {
-    double v[2];
-    if (numbers(key, v, 2)) p = {v[0], v[1]};
-  }
-  void point(const char* key, std::optional<Point2>& p) {
-    double v[2];
-    if (numbers(key, v, 2)) p = Point2{v[0], v[1]};
-  }
-  void point(const char* key, Point3& p) {
-    double v[3];
-    if (numbers(key, v, 3)) p = {v[0], v[1], v[2]};
-  }
-  void colour(const char* key, LinearRgb& c) {
-    double v[3];
-    if (numbers(key, v, 3)) c = {float(v[0]), float(v[1]), float(v[2])};
-  }
-  /// A sub-table, or null if absent (an error if the key holds something else).
-  const toml::table* table(const char* key) {
-    const toml::node* n = get(key);
-    if (n && !n->is_table()) wrong(*n, key, "a table");
-    return n ? n->as_table() : nullptr;
-  }
-  /// Each table of an array of tables ([[key]]), with its field path "key[i]".
-  template <class F>
-  void tables(const char* key, F&& each) {
-    const toml::node* n = get(key);
-    if (!n) return;
-    const toml::array* a = n->as_array();
-    if (!a || !a->is_array_of_tables()) {
-      wrong(*n, key, "an array of tables ([[" + std::string(key) + "]])");
-      return;
-    }
-    for (std::size_t i = 0; i < a->size(); ++i) each(*(*a)[i].as_table(), field(key) + "[" + std::to_string(i) + "]");
-  }
-  /// Array of [x, y] pairs.
-  void points(const char* key, std::vector<Point2>& out) {
-    const toml::node* n = get(key);
-    if (!n) return;
-    const toml::array* a = n->as_array();
-    bool ok = a != nullptr;
-    for (std::size_t i = 0; ok && i < a->size(); ++i) {
-      const toml::array* p = (*a)[i].as_array();
-      ok = p && p->size() == 2 && (*p)[0].value<double>() && (*p)[1].value<double>() && !(*p)[0].is_string() && !(*p)[1].is_string();
-      if (ok) out.push_back({*(*p)[0].value<double>(), *(*p)[1].value<double>()});
-    }
-    if (!ok) wrong(*n, key, "an array of [x, y] points");
-  }
-  std::string field(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
-  Where where(const char* key) { const toml::node* n = t_.get(key); return n ? ctx_.at(*n) : ctx_.at(t_); }
-  Context& context() { return ctx_; }
-
-  void finish() {
-    for (const auto& [key, node] : t_) {
-      if (!read_.count(std::string(key.str()))) {
-        ctx_.fail({key.source().begin.line, key.source().begin.column}, field(std::string(key.str()).c_str()),
-                  "unknown key (see docs/scenes.md)");
-      }
-    }
-  }
-
- private:
-  const toml::node* get(const char* key) {
-    read_.insert(key);
-    const toml::node* n = t_.get(key);
-    if (n) ctx_.where[field(key)] = ctx_.at(*n);
-    return n;
-  }
-  void wrong(const toml::node& n, const char* key, const std::string& expected) {
+  void wrong(const toml::node& n, std::string_view key, const std::string& expected) {
     ctx_.fail(ctx_.at(n), field(key), "expected " + expected + ", got " + type_name(n));
   }
 
@@ -198,177 +212,82 @@ class Reader {
   std::set<std::string> read_;
 };
 
-void read_floor(Reader& r, SeaFloor& f) {
-  if (const toml::table* t = r.table("base")) {
-    Reader b(*t, r.field("base"), r.context());
-    b.choice("kind", f.base.kind, {{"flat", FloorKind::flat}, {"planar_beach", FloorKind::planar_beach}});
-    b.number("depth", f.base.depth);
-    b.number("slope", f.base.slope);
-    b.number("shoreward_deg", f.base.shoreward_deg);
-    b.point("shoreline", f.base.shoreline);
-    b.finish();
-  }
-  r.tables("shoals", [&](const toml::table& t, std::string path) {
-    Reader s(t, path, r.context());
-    Shoal& o = f.shoals.emplace_back();
-    s.point("center", o.center);
-    s.number("semi_axis_a", o.semi_axis_a);
-    s.number("semi_axis_b", o.semi_axis_b);
-    s.number("orientation_deg", o.orientation_deg);
-    s.number("height", o.height);
-    s.finish();
-  });
-  r.tables("bars", [&](const toml::table& t, std::string path) {
-    Reader s(t, path, r.context());
-    Bar& o = f.bars.emplace_back();
-    s.point("point", o.point);
-    s.number("along_deg", o.along_deg);
-    s.number("half_width", o.half_width);
-    s.number("height", o.height);
-    s.finish();
-  });
-  r.tables("channels", [&](const toml::table& t, std::string path) {
-    Reader s(t, path, r.context());
-    Channel& o = f.channels.emplace_back();
-    s.point("from", o.from);
-    s.point("to", o.to);
-    s.number("half_width", o.half_width);
-    s.number("depth", o.depth);
-    s.finish();
-  });
-  if (const toml::table* t = r.table("height_map")) {
-    Reader h(*t, r.field("height_map"), r.context());
-    HeightMapImage image;
-    const std::optional<std::string> file = h.string("file");
-    h.point("origin", image.origin);
-    h.number("cell", image.cell);
-    h.number("depth_at_black", image.depth_at_black);
-    h.number("depth_at_white", image.depth_at_white);
-    HeightMapMode mode = HeightMapMode::absolute;
-    h.choice("mode", mode, {{"absolute", HeightMapMode::absolute}, {"additive", HeightMapMode::additive}});
-    h.finish();
-    Context& ctx = r.context();
-    if (!file) {
-      ctx.fail(ctx.where[h.field("file").c_str()], h.field("file"), "the image file of the height map (a string)");
-    } else if (!ctx.error) {
-      const std::filesystem::path p = std::filesystem::path(ctx.dir) / *file;
-      Expected<HeightMap> map = load_height_map(p.string(), image);
-      if (!map) {
-        ctx.fail(ctx.where[h.field("file")], h.field("file"), map.error().message);
-      } else {
-        map->mode = mode;
-        f.height_map = std::move(map.value());
-      }
-    }
-  }
-}
-
-void read_scene(const toml::table& root, Scene& s, Context& ctx) {
-  Reader r(root, "", ctx);
-  if (const toml::table* t = r.table("domain")) {
-    Reader d(*t, "domain", ctx);
-    d.number("x_min", s.domain.x_min);
-    d.number("y_min", s.domain.y_min);
-    d.number("x_max", s.domain.x_max);
-    d.number("y_max", s.domain.y_max);
-    d.finish();
-  }
-  if (const toml::table* t = r.table("floor")) {
-    Reader f(*t, "floor", ctx);
-    read_floor(f, s.floor);
-    f.finish();
-  }
-  r.tables("walls", [&](const toml::table& t, std::string path) {
-    Reader w(t, path, ctx);
-    Wall& o = s.walls.emplace_back();
-    w.points("points", o.points);
-    w.number("thickness", o.thickness);
-    w.number("reflection", o.reflection);
-    w.number("crest_height", o.crest_height);
-    w.finish();
-  });
-  r.tables("trains", [&](const toml::table& t, std::string path) {
-    Reader w(t, path, ctx);
-    WaveTrain& o = s.trains.emplace_back();
-    w.number("direction_deg", o.direction_deg);
-    w.point("direction", o.direction);
-    w.number("period", o.period);
-    w.number("wavelength", o.wavelength);
-    w.number("amplitude", o.amplitude);
-    w.number("phase", o.phase);
-    w.number("steepness", o.steepness);
-    w.finish();
-  });
-  if (const toml::table* t = r.table("capillary")) {
-    Reader c(*t, "capillary", ctx);
-    c.number("amplitude", s.capillary.amplitude);
-    c.number("base_wavelength", s.capillary.base_wavelength);
-    c.number("lacunarity", s.capillary.lacunarity);
-    c.integer("max_octaves", s.capillary.max_octaves);
-    c.number("time_scale", s.capillary.time_scale);
-    c.finish();
-  }
-  r.tables("boxes", [&](const toml::table& t, std::string path) {
-    Reader b(t, path, ctx);
-    Box& o = s.boxes.emplace_back();
-    b.point("center", o.center);
-    b.point("half_extent", o.half_extent);
-    b.number("yaw_deg", o.yaw_deg);
-    b.colour("colour", o.colour);
-    b.finish();
-  });
-  r.tables("spheres", [&](const toml::table& t, std::string path) {
-    Reader b(t, path, ctx);
-    Sphere& o = s.spheres.emplace_back();
-    b.point("center", o.center);
-    b.number("radius", o.radius);
-    b.colour("colour", o.colour);
-    b.finish();
-  });
-  if (const toml::table* t = r.table("sun")) {
-    Reader b(*t, "sun", ctx);
-    b.number("azimuth_deg", s.sun.azimuth_deg);
-    b.number("elevation_deg", s.sun.elevation_deg);
-    b.finish();
-  }
-  if (const toml::table* t = r.table("sky")) {
-    Reader b(*t, "sky", ctx);
-    b.number("turbidity", s.sky.turbidity);
-    b.finish();
-  }
-  if (const toml::table* t = r.table("camera")) {
-    Reader b(*t, "camera", ctx);
-    b.point("position", s.camera.position);
-    b.point("look_at", s.camera.look_at);
-    b.number("vertical_fov_deg", s.camera.vertical_fov_deg);
-    b.finish();
-  }
-  if (const toml::table* t = r.table("water")) {
-    Reader b(*t, "water", ctx);
-    b.number("extra_absorption", s.water.extra_absorption);
-    b.number("dominant_wavelength_nm", s.water.dominant_wavelength_nm);
-    b.finish();
-  }
-  if (const toml::table* t = r.table("dwt")) {
-    Reader b(*t, "dwt", ctx);
-    DwtSettings& d = s.dwt;
-    b.integer("initial_rays", d.initial_rays);
-    b.number("front_width", d.front_width);
-    b.number("step", d.step);
-    b.number("insertion_distance", d.insertion_distance);
-    b.number("min_depth", d.min_depth);
-    b.number("min_depth_wavelengths", d.min_depth_wavelengths);
-    b.number("breaker_index", d.breaker_index);
-    b.number("max_refraction_coefficient", d.max_refraction_coefficient);
-    b.boolean("diffraction", d.diffraction);
-    b.boolean("reflection", d.reflection);
-    b.choice("diffraction_model", d.diffraction_model,
-             {{"exact", DiffractionModel::exact}, {"paper", DiffractionModel::paper}, {"paper-corrected", DiffractionModel::paper_corrected}});
-    b.integer("max_rays", d.max_rays);
-    b.integer("max_samples", d.max_samples);
-    b.finish();
+// One table of a section into `item`, key by key as scene_keys lists them.
+template <class S>
+void read_keys(Reader& r, const scene_keys::Section<S>& section, S& item, Context& ctx) {
+  for (const scene_keys::Key<S>& k : section.keys) {
+    std::visit(
+        [&](auto member) {
+          auto& v = item.*member;
+          if constexpr (std::is_enum_v<std::remove_cvref_t<decltype(v)>>) r.choice(k.name, v, k.choices);
+          else r.read(k.name, v);
+        },
+        k.member);
+    if (k.required && !r.has(k.name)) ctx.fail(r.where(), r.field(k.name), "required, missing: " + std::string(k.doc));
   }
   r.finish();
+}
+
+void read_height_map(Reader& r, SeaFloor& floor, Context& ctx) {
+  HeightMapFile file;
+  read_keys(r, scene_keys::height_map, file, ctx);
+  if (ctx.error) return;
+  if (auto e = scene_keys::check_keys(scene_keys::height_map, file, std::string(scene_keys::height_map.path))) {
+    ctx.fail(ctx.place(e->field), e->field, e->message);
+    return;
+  }
+  Expected<HeightMap> map = load_height_map((std::filesystem::path(ctx.dir) / file.file).string(), file);
+  if (!map) return ctx.fail(ctx.place(r.field("file")), r.field("file"), map.error().message);
+  floor.height_map = std::move(map.value());
+}
+
+// The tables that hold sections ("" the root, "floor"), each read once and finished after the
+// sections: a key none of them reads is unknown.
+class Tables {
+ public:
+  Tables(const toml::table& root, Context& ctx) : ctx_(ctx) { readers_.emplace("", Reader(root, "", ctx)); }
+
+  /// The reader of the table at `path`, or null where the file has none.
+  Reader* at(const std::string& path) {
+    if (const auto it = readers_.find(path); it != readers_.end()) return it->second ? &*it->second : nullptr;
+    const auto cut = path.find_last_of('.');
+    Reader* parent = at(cut == std::string::npos ? "" : path.substr(0, cut));
+    const toml::table* t = parent ? parent->table(path.substr(cut + 1)) : nullptr;
+    auto& slot = readers_[path];
+    if (t) slot.emplace(*t, path, ctx_);
+    return t ? &*slot : nullptr;
+  }
+  void finish() {
+    for (auto& [path, reader] : readers_) {
+      if (reader) reader->finish();
+    }
+  }
+
+ private:
+  Context& ctx_;
+  std::map<std::string, std::optional<Reader>> readers_;
+};
+
+void read_scene(const toml::table& root, Scene& s, Context& ctx) {
+  Tables tables(root, ctx);
+  scene_keys::for_each_section([&]<class S>(const scene_keys::Section<S>& section) {
+    const std::string path(section.path);
+    const auto cut = path.find_last_of('.');
+    const std::string name = path.substr(cut + 1);
+    Reader* parent = tables.at(cut == std::string::npos ? "" : path.substr(0, cut));
+    if (!parent) return;
+    if (section.array) {
+      parent->tables(name, [&](const toml::table& t, std::string item_path) {
+        Reader r(t, std::move(item_path), ctx);
+        read_keys(r, section, section.array_in(s).emplace_back(), ctx);
+      });
+    } else if (const toml::table* t = parent->table(name)) {
+      Reader r(*t, path, ctx);
+      if constexpr (std::is_same_v<S, HeightMapFile>) read_height_map(r, s.floor, ctx);
+      else read_keys(r, section, section.table_in(s), ctx);
+    }
+  });
+  tables.finish();
 }
 
 }  // namespace
@@ -388,19 +307,8 @@ Expected<Scene> parse_scene(std::string_view text, const std::string& name, cons
   if (ctx.error) return *ctx.error;
   Expected<Scene> valid = validate(std::move(scene));
   if (valid) return valid;
-  // Place the problem at the deepest field the file wrote on its path ("trains[1].period", else
-  // "trains[1]", else the file's start: a default value that is wrong with the others).
   const Error& e = valid.error();
-  std::string path = e.field;
-  Where w{1, 1};
-  while (!path.empty()) {
-    if (const auto it = ctx.where.find(path); it != ctx.where.end()) {
-      w = it->second;
-      break;
-    }
-    const auto cut = path.find_last_of(".[");
-    path = cut == std::string::npos ? std::string() : path.substr(0, cut);
-  }
+  const Where w = ctx.place(e.field);
   return Error{name + ":" + std::to_string(w.line) + ":" + std::to_string(w.column), e.field + ": " + e.message};
 }
 

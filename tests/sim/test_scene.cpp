@@ -8,6 +8,7 @@
 
 #include "houle/sim/animation.hpp"
 #include "houle/sim/scene.hpp"
+#include "houle/sim/scene_keys.hpp"
 
 namespace {
 
@@ -159,6 +160,30 @@ TEST(Scene, TrainHelpers) {
   EXPECT_NEAR(houle::train_direction(t).y, -0.8, 1e-15);
   houle::WaveTrain none;
   EXPECT_EQ(houle::train_omega(none), 0.0);
+}
+
+// Validation takes its ranges from the key table: a number just outside its key's range is refused
+// and named like the key.
+TEST(Scene, EveryBoundedNumberKeyIsCheckedByName) {
+  namespace keys = houle::scene_keys;
+  int checked = 0;
+  keys::for_each_section([&]<class S>(const keys::Section<S>& section) {
+    for (const keys::Key<S>& k : section.keys) {
+      const auto* member = std::get_if<double S::*>(&k.member);
+      if (!member || !k.range.bounded()) continue;
+      Scene s;
+      S* item = section.table_in ? &section.table_in(s) : section.array_in ? &section.array_in(s).emplace_back() : nullptr;
+      if (!item || (k.applies && !k.applies(*item))) continue;
+      const double lo = k.range.lo, hi = k.range.hi, inf = std::numeric_limits<double>::infinity();
+      for (double bad : {k.range.lo_open ? lo : std::nextafter(lo, -inf), k.range.hi_open ? hi : std::nextafter(hi, inf)}) {
+        if (std::isinf(bad)) continue;
+        (*item).*(*member) = bad;
+        EXPECT_EQ(error_field(s), std::string(section.path) + (section.array ? "[0]." : ".") + std::string(k.name)) << bad;
+        ++checked;
+      }
+    }
+  });
+  EXPECT_GE(checked, 30);
 }
 
 }  // namespace

@@ -1,0 +1,331 @@
+#include "houle/sim/scene_keys.hpp"
+
+#include <charconv>
+#include <cmath>
+
+namespace houle::scene_keys {
+
+bool Range::contains(double v) const noexcept {
+  return std::isfinite(v) && (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+}
+
+bool Range::bounded() const noexcept { return std::isfinite(lo) || std::isfinite(hi); }
+
+std::string number_text(double v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
+
+std::string number_text(float v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
+
+std::string describe(const Range& r) {
+  if (std::isfinite(r.lo) && std::isfinite(r.hi)) {
+    return std::string(r.lo_open ? "(" : "[") + number_text(r.lo) + ", " + number_text(r.hi) + (r.hi_open ? ")" : "]");
+  }
+  if (std::isfinite(r.lo)) return (r.lo_open ? "> " : ">= ") + number_text(r.lo);
+  if (std::isfinite(r.hi)) return (r.hi_open ? "< " : "<= ") + number_text(r.hi);
+  return "";
+}
+
+namespace {
+
+std::string with_unit(std::string text, std::string_view unit) {
+  return unit.empty() ? text : text + " " + std::string(unit);
+}
+
+// What a number outside `range` should have been: "a finite value > 0 s", "a value in [0, 1]".
+std::string expected_number(const Range& range, std::string_view unit) {
+  if (!range.bounded()) return "a finite number";
+  const std::string bounds = describe(range);
+  if (bounds.front() == '[' || bounds.front() == '(') return with_unit("a value in " + bounds, unit);
+  return with_unit("a finite value " + bounds, unit);
+}
+
+Error bad(const std::string& field, const std::string& expected, const std::string& got) {
+  return Error{field, expected + ", got " + got};
+}
+
+std::optional<Error> check_coordinates(std::span<const double> v, const Range& range, std::string_view unit,
+                                       const std::string& field) {
+  static constexpr const char* axis[] = {".x", ".y", ".z"};
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (range.contains(v[i])) continue;
+    // Unbounded coordinates only need to be finite: the point is at fault, not one axis.
+    if (!range.bounded()) {
+      std::string expected = "finite coordinates";
+      if (!unit.empty()) expected.append(" (").append(unit).append(")");
+      return Error{field, expected};
+    }
+    return bad(field + axis[i], expected_number(range, unit), number_text(v[i]));
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<Error> check_value(double v, const Range& range, std::string_view unit, const std::string& field) {
+  if (range.contains(v)) return std::nullopt;
+  return bad(field, expected_number(range, unit), number_text(v));
+}
+
+std::optional<Error> check_value(const std::optional<double>& v, const Range& range, std::string_view unit,
+                                 const std::string& field) {
+  return v ? check_value(*v, range, unit, field) : std::nullopt;
+}
+
+std::optional<Error> check_value(std::int64_t v, const Range& range, std::string_view, const std::string& field) {
+  if (!range.bounded() || range.contains(double(v))) return std::nullopt;
+  return bad(field, "a count in " + describe(range), std::to_string(v));
+}
+
+std::optional<Error> check_value(Point2 v, const Range& range, std::string_view unit, const std::string& field) {
+  const double c[] = {v.x, v.y};
+  return check_coordinates(c, range, unit, field);
+}
+
+std::optional<Error> check_value(const std::optional<Point2>& v, const Range& range, std::string_view unit,
+                                 const std::string& field) {
+  return v ? check_value(*v, range, unit, field) : std::nullopt;
+}
+
+std::optional<Error> check_value(Point3 v, const Range& range, std::string_view unit, const std::string& field) {
+  const double c[] = {v.x, v.y, v.z};
+  return check_coordinates(c, range, unit, field);
+}
+
+std::optional<Error> check_value(LinearRgb v, const Range& range, std::string_view, const std::string& field) {
+  for (float c : {v.r, v.g, v.b}) {
+    if (!range.contains(c)) return bad(field, "linear RGB components in " + describe(range), number_text(c));
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> check_value(const std::vector<Point2>& v, const Range& range, std::string_view unit,
+                                 const std::string& field) {
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (auto e = check_value(v[i], range, unit, field + "[" + std::to_string(i) + "]")) return e;
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> check_choice(int v, std::span<const Choice> choices, const std::string& field) {
+  std::string names;
+  for (const Choice& c : choices) {
+    if (c.value == v) return std::nullopt;
+    names += (names.empty() ? "one of \"" : ", \"") + std::string(c.name) + "\"";
+  }
+  return bad(field, names, std::to_string(v));
+}
+
+// ---- The table ----------------------------------------------------------------------------------
+
+namespace {
+
+constexpr Key<Domain> domain_keys[] = {
+    {"x_min", &Domain::x_min, "m", any, "west edge of the rectangle in which wave rays are traced"},
+    {"y_min", &Domain::y_min, "m", any, "south edge"},
+    {"x_max", &Domain::x_max, "m", any, "east edge, greater than `x_min`"},
+    {"y_max", &Domain::y_max, "m", any, "north edge, greater than `y_min`"},
+};
+
+constexpr Choice floor_kinds[] = {
+    {"flat", int(FloorKind::flat), "`depth` everywhere"},
+    {"planar_beach", int(FloorKind::planar_beach),
+     "the depth grows seaward with `slope` from 0 at `shoreline` up to `depth`"},
+};
+constexpr bool beach(const FloorBase& b) { return b.kind == FloorKind::planar_beach; }
+constexpr Key<FloorBase> floor_base_keys[] = {
+    {"kind", &FloorBase::kind, "", any, "the base shape", floor_kinds},
+    {"depth", &FloorBase::depth, "m", positive, "flat: the depth; beach: the offshore plateau's depth"},
+    {"slope", &FloorBase::slope, "m/m", {1e-6, 1.0},
+     "beach: depth gained per metre seaward, the tangent of the bottom slope (1:50 = 0.02)", {}, beach},
+    {"shoreward_deg", &FloorBase::shoreward_deg, "deg", any, "beach: direction from sea towards shore", {}, beach},
+    {"shoreline", &FloorBase::shoreline, "m", any,
+     "beach: a point of the still-water shoreline (depth 0); landward of it the floor keeps rising with the same "
+     "slope",
+     {}, beach},
+};
+
+constexpr Key<Shoal> shoal_keys[] = {
+    {"center", &Shoal::center, "m", any, "centre"},
+    {"semi_axis_a", &Shoal::semi_axis_a, "m", positive, "semi-axis along `orientation_deg`"},
+    {"semi_axis_b", &Shoal::semi_axis_b, "m", positive, "semi-axis across it (equal to `semi_axis_a`: circular)"},
+    {"orientation_deg", &Shoal::orientation_deg, "deg", any, "direction of `semi_axis_a`"},
+    {"height", &Shoal::height, "m", any,
+     "how much the floor rises at the centre (negative: a pit); profile (1 − u)³, smooth to the rim"},
+};
+
+constexpr Key<Bar> bar_keys[] = {
+    {"point", &Bar::point, "m", any, "a point of the crest line"},
+    {"along_deg", &Bar::along_deg, "deg", any, "direction of the crest line"},
+    {"half_width", &Bar::half_width, "m", positive, "half width"},
+    {"height", &Bar::height, "m", any, "rise on the crest line (negative: a trough)"},
+};
+
+constexpr Key<Channel> channel_keys[] = {
+    {"from", &Channel::from, "m", any, "one end of the axis"},
+    {"to", &Channel::to, "m", any, "the other end"},
+    {"half_width", &Channel::half_width, "m", positive, "half width"},
+    {"depth", &Channel::depth, "m", any, "extra depth on the axis (negative: a levee)"},
+};
+
+constexpr Choice height_map_modes[] = {
+    {"absolute", int(HeightMapMode::absolute), "the map is the depth (the base is ignored)"},
+    {"additive", int(HeightMapMode::additive), "the map is added to the base's depth"},
+};
+constexpr Key<HeightMapFile> height_map_keys[] = {
+    {"file", &HeightMapFile::file, "path", any,
+     "image read by OpenImageIO, relative to the scene file; its first channel is used", {}, nullptr, true},
+    {"origin", &HeightMapFile::origin, "m", any, "position of the bottom-left pixel centre (the image's top row is north)"},
+    {"cell", &HeightMapFile::cell, "m", positive, "distance between pixel centres"},
+    {"depth_at_black", &HeightMapFile::depth_at_black, "m", any, "depth where the grey level is 0"},
+    {"depth_at_white", &HeightMapFile::depth_at_white, "m", any,
+     "depth where the grey level is 1 (grey levels between map linearly)"},
+    {"mode", &HeightMapFile::mode, "", any, "how the map combines with `[floor.base]`", height_map_modes},
+};
+
+constexpr Key<Wall> wall_keys[] = {
+    {"points", &Wall::points, "m", any,
+     "polyline of at least 2 points, consecutive points distinct; each segment must meet the domain (grown by "
+     "half the thickness)",
+     {}, nullptr, true},
+    {"thickness", &Wall::thickness, "m", non_negative, "width of the structure"},
+    {"reflection", &Wall::reflection, "", unit_interval, "reflection coefficient α (1 rigid, 0 absorbing)"},
+    {"crest_height", &Wall::crest_height, "m", any, "height above still water (rendering)"},
+};
+
+constexpr Key<WaveTrain> train_keys[] = {
+    {"direction_deg", &WaveTrain::direction_deg, "deg", any, "direction of travel"},
+    {"direction", &WaveTrain::direction, "", any,
+     "direction of travel as a vector of any non-zero length (overrides `direction_deg`)"},
+    {"period", &WaveTrain::period, "s", positive, "wave period; give exactly one of `period` and `wavelength`"},
+    {"wavelength", &WaveTrain::wavelength, "m", positive, "deep-water wavelength L0 = g T² / 2π"},
+    {"amplitude", &WaveTrain::amplitude, "m", non_negative,
+     "deep-water amplitude A0, at most the Stokes limit 0.071 L0 (H/L0 = 0.142); shoaled to the local depth "
+     "where rays enter the domain"},
+    {"phase", &WaveTrain::phase, "rad", any, "added to the train's phase"},
+    {"steepness", &WaveTrain::steepness, "", unit_interval, "Gerstner q (0: sine profile)"},
+};
+
+constexpr Key<CapillaryNoise> capillary_keys[] = {
+    {"amplitude", &CapillaryNoise::amplitude, "m", non_negative, "0 switches the ripples off (no noise work at all)"},
+    {"base_wavelength", &CapillaryNoise::base_wavelength, "m", positive, "lattice spacing of the coarsest octave"},
+    {"lacunarity", &CapillaryNoise::lacunarity, "", {1.25, 4.0}, "frequency ratio between octaves"},
+    {"max_octaves", &CapillaryNoise::max_octaves, "", {0.0, 8.0}, "near the camera; far away octaves fade out"},
+    {"time_scale", &CapillaryNoise::time_scale, "", non_negative, "multiplies the ripples' drift (0 freezes them)"},
+};
+
+constexpr Key<Box> box_keys[] = {
+    {"center", &Box::center, "m", any, "centre"},
+    {"half_extent", &Box::half_extent, "m", positive, "half sizes"},
+    {"yaw_deg", &Box::yaw_deg, "deg", any, "rotation about z"},
+    {"colour", &Box::colour, "", unit_interval, "linear RGB reflectance"},
+};
+
+constexpr Key<Sphere> sphere_keys[] = {
+    {"center", &Sphere::center, "m", any, "centre"},
+    {"radius", &Sphere::radius, "m", positive, "radius"},
+    {"colour", &Sphere::colour, "", unit_interval, "linear RGB reflectance"},
+};
+
+constexpr Key<Sun> sun_keys[] = {
+    {"azimuth_deg", &Sun::azimuth_deg, "deg", any, "direction towards the sun"},
+    {"elevation_deg", &Sun::elevation_deg, "deg", {-90.0, 90.0}, "above the horizon"},
+};
+
+constexpr Key<Sky> sky_keys[] = {
+    {"turbidity", &Sky::turbidity, "", {1.7, 10.0}, "Preetham turbidity"},
+};
+
+constexpr Key<ViewCamera> camera_keys[] = {
+    {"position", &ViewCamera::position, "m", any, "must be above the sea floor"},
+    {"look_at", &ViewCamera::look_at, "m", any, "point looked at (not the position)"},
+    {"vertical_fov_deg", &ViewCamera::vertical_fov_deg, "deg", {0.0, 180.0, true, true}, "vertical field of view"},
+};
+
+constexpr Key<Water> water_keys[] = {
+    {"extra_absorption", &Water::extra_absorption, "1/m", non_negative,
+     "added to pure water's absorption (turbidity, plankton)"},
+    {"dominant_wavelength_nm", &Water::dominant_wavelength_nm, "nm", {380.0, 780.0},
+     "sea colour (paper's table: Pacific 473, Atlantic 483, Baltic 540)"},
+};
+
+constexpr Choice diffraction_models[] = {
+    {"exact", int(DiffractionModel::exact), "Sommerfeld's solution"},
+    {"paper", int(DiffractionModel::paper), "the paper's eqs. 1–5 as printed"},
+    {"paper-corrected", int(DiffractionModel::paper_corrected), "the same with the two typos of physics.md 4.3 fixed"},
+};
+constexpr Key<DwtSettings> dwt_keys[] = {
+    {"initial_rays", &DwtSettings::initial_rays, "", any,
+     "rays per train across the front, 0 or at least 2; 0: front width / insertion distance"},
+    {"front_width", &DwtSettings::front_width, "m", non_negative,
+     "width covered by the initial rays, centred on the domain; 0: the whole domain"},
+    {"step", &DwtSettings::step, "m", positive,
+     "arc-length step where a ray enters the domain (rays then advance by equal phase)"},
+    {"insertion_distance", &DwtSettings::insertion_distance, "m", positive,
+     "a ray is inserted between neighbours farther apart than this"},
+    {"min_depth", &DwtSettings::min_depth, "m", positive,
+     "rays stop where the depth falls below max(min_depth, min_depth_wavelengths · L0)"},
+    {"min_depth_wavelengths", &DwtSettings::min_depth_wavelengths, "", {0.0, 0.5}, "see `min_depth`"},
+    {"breaker_index", &DwtSettings::breaker_index, "", {0.1, 1.5},
+     "the wave height never exceeds breaker_index · depth"},
+    {"max_refraction_coefficient", &DwtSettings::max_refraction_coefficient, "", {1.0, 100.0},
+     "cap of the refraction coefficient at caustics"},
+    {"diffraction", &DwtSettings::diffraction, "", any, "fans of diffracted rays behind pierheads"},
+    {"diffraction_model", &DwtSettings::diffraction_model, "", any, "diffraction coefficient behind pierheads",
+     diffraction_models},
+    {"reflection", &DwtSettings::reflection, "", any,
+     "rays that hit a wall with `reflection` > 0 start its reflected wave (alpha · A, mirrored)"},
+    {"max_rays", &DwtSettings::max_rays, "", {2.0, double(scene_limits::max_rays)},
+     "per-train cap on rays (memory and time), at least `initial_rays`"},
+    {"max_samples", &DwtSettings::max_samples, "", {64.0, double(scene_limits::max_samples)},
+     "per-train cap on ray samples (memory and time)"},
+};
+
+}  // namespace
+
+constexpr Section<Domain> domain{"domain", false, "where water is simulated", "", domain_keys,
+                                 [](Scene& s) -> Domain& { return s.domain; }};
+constexpr Section<FloorBase> floor_base{"floor.base", false, "the sea floor's base shape", "", floor_base_keys,
+                                        [](Scene& s) -> FloorBase& { return s.floor.base; }};
+constexpr Section<Shoal> shoals{"floor.shoals", true, "elliptic mounds (shoals, submerged rocks) or pits", "",
+                                shoal_keys, nullptr, [](Scene& s) -> std::vector<Shoal>& { return s.floor.shoals; }};
+constexpr Section<Bar> bars{"floor.bars", true, "along-shore bars (ridges along a line)", "", bar_keys, nullptr,
+                            [](Scene& s) -> std::vector<Bar>& { return s.floor.bars; }};
+constexpr Section<Channel> channels{"floor.channels", true, "troughs along a segment", "", channel_keys, nullptr,
+                                    [](Scene& s) -> std::vector<Channel>& { return s.floor.channels; }};
+constexpr Section<HeightMapFile> height_map{
+    "floor.height_map", false, "a sampled sea floor from an image",
+    "Interpolated bicubically (Catmull-Rom), clamped to its edge values outside. Larger images than the limit "
+    "below are refused.",
+    height_map_keys};
+constexpr Section<Wall> walls{
+    "walls", true, "sea walls, breakwaters, jetties",
+    "An end in the water is a pierhead: waves diffract around it into the lee.\n\n"
+    "Points may lie outside the domain. The wall is drawn whole, but waves meet only its part inside the "
+    "domain, where rays are traced: for them the wall is clipped to the domain. An end outside the domain or "
+    "within half the thickness of its edge, like an end on land or in water shallower than where rays stop "
+    "(`dwt.min_depth`), is no pierhead: the wall is taken to continue beyond it.",
+    wall_keys, nullptr, [](Scene& s) -> std::vector<Wall>& { return s.walls; }};
+constexpr Section<WaveTrain> trains{"trains", true, "wave trains from the open sea", "", train_keys, nullptr,
+                                    [](Scene& s) -> std::vector<WaveTrain>& { return s.trains; }};
+constexpr Section<CapillaryNoise> capillary{"capillary", false, "short ripples (fractal noise, paper eq. 9)", "",
+                                            capillary_keys,
+                                            [](Scene& s) -> CapillaryNoise& { return s.capillary; }};
+constexpr Section<Box> boxes{"boxes", true, "box objects (blocks, rocks)", "", box_keys, nullptr,
+                             [](Scene& s) -> std::vector<Box>& { return s.boxes; }};
+constexpr Section<Sphere> spheres{"spheres", true, "sphere objects (buoys, rocks)", "", sphere_keys, nullptr,
+                                  [](Scene& s) -> std::vector<Sphere>& { return s.spheres; }};
+constexpr Section<Sun> sun{"sun", false, "the sun", "", sun_keys, [](Scene& s) -> Sun& { return s.sun; }};
+constexpr Section<Sky> sky{"sky", false, "the sky", "", sky_keys, [](Scene& s) -> Sky& { return s.sky; }};
+constexpr Section<ViewCamera> camera{"camera", false, "the view", "", camera_keys,
+                                     [](Scene& s) -> ViewCamera& { return s.camera; }};
+constexpr Section<Water> water{"water", false, "the water's colour", "", water_keys,
+                               [](Scene& s) -> Water& { return s.water; }};
+constexpr Section<DwtSettings> dwt{"dwt", false, "accuracy knobs of the wave-ray tracer", "", dwt_keys,
+                                   [](Scene& s) -> DwtSettings& { return s.dwt; }};
+
+}  // namespace houle::scene_keys
