@@ -144,14 +144,14 @@ N threads, default 2). --json prints the same facts as one JSON object.)");
     }
     std::printf("],\n \"totals\": {\"rays\": %llu, \"initial_rays\": %llu, \"inserted_rays\": %llu, \"diffracted_rays\": %llu, "
                 "\"reflected_rays\": %llu, \"samples\": %llu, \"steps\": %llu, \"fans\": %llu, \"diffraction_evaluations\": %llu, "
-                "\"crossings\": %llu, \"broken_rays\": %llu, \"shared_steps\": %llu, \"truncated\": %s},\n",
+                "\"crossings\": %llu, \"broken_rays\": %llu, \"turned_back\": %llu, \"shared_steps\": %llu, \"truncated\": %s},\n",
                 static_cast<unsigned long long>(st.rays), static_cast<unsigned long long>(st.initial_rays),
                 static_cast<unsigned long long>(st.inserted_rays), static_cast<unsigned long long>(st.diffracted_rays),
                 static_cast<unsigned long long>(st.reflected_rays), static_cast<unsigned long long>(st.samples),
                 static_cast<unsigned long long>(st.steps), static_cast<unsigned long long>(st.fans),
                 static_cast<unsigned long long>(st.diffraction_evaluations), static_cast<unsigned long long>(st.crossings),
-                static_cast<unsigned long long>(st.broken_rays), static_cast<unsigned long long>(st.shared_steps),
-                json_bool(st.truncated));
+                static_cast<unsigned long long>(st.broken_rays), static_cast<unsigned long long>(st.turned_back),
+                static_cast<unsigned long long>(st.shared_steps), json_bool(st.truncated));
     std::printf(" \"memory_bytes\": {\"rays\": %zu, \"sea_grid\": %zu},\n", rays_memory, sea_memory);
     std::printf(" \"build_ms\": {\"trace\": %.3f, \"sea_surface\": %.3f, \"total\": %.3f}}\n", trace_ms, sea_ms,
                 trace_ms + sea_ms);
@@ -189,12 +189,13 @@ N threads, default 2). --json prints the same facts as one JSON object.)");
               yes(plan.capillary_noise), yes(plan.refraction), yes(plan.specular), yes(plan.shadows),
               yes(plan.reflect_objects));
   std::printf("rays: %llu (%llu initial, %llu inserted, %llu diffracted, %llu reflected), %llu samples, %llu diffraction "
-              "evaluations, %llu wavefront steps (%llu shared by two lanes)%s\n",
+              "evaluations, %llu wavefront steps (%llu shared by two lanes), %llu turned back by refraction%s\n",
               static_cast<unsigned long long>(st.rays), static_cast<unsigned long long>(st.initial_rays),
               static_cast<unsigned long long>(st.inserted_rays), static_cast<unsigned long long>(st.diffracted_rays),
               static_cast<unsigned long long>(st.reflected_rays), static_cast<unsigned long long>(st.samples),
               static_cast<unsigned long long>(st.diffraction_evaluations), static_cast<unsigned long long>(st.steps),
-              static_cast<unsigned long long>(st.shared_steps), st.truncated ? " (TRUNCATED at a cap)" : "");
+              static_cast<unsigned long long>(st.shared_steps), static_cast<unsigned long long>(st.turned_back),
+              st.truncated ? " (TRUNCATED at a cap)" : "");
   std::printf("memory: rays %.2f MiB, sea grids %.2f MiB\n", double(rays_memory) / 1048576.0, double(sea_memory) / 1048576.0);
   std::printf("build time: %.2f ms (tracing %.2f ms, resampling %.2f ms, %u threads)\n", trace_ms + sea_ms, trace_ms, sea_ms,
               threads);

@@ -311,7 +311,7 @@ struct Fan {
   double cos_half_theta0 = 1.0, sin_half_theta0 = 0.0;
 };
 
-enum class Stop : std::uint8_t { none, wall, domain, shore };
+enum class Stop : std::uint8_t { none, wall, domain, shore, turned };
 
 // Only rays that end on a wall, with samples, and are not DIFFRACTED seed a reflected wave.
 bool seeds_reflection(std::uint8_t flags, std::size_t samples) noexcept {
@@ -821,8 +821,11 @@ class TrainTracer {
     auto stop = [&](const RayState& a, const RayState& b, double depth_b) {
       return chord_event(a, b, depth_b, r.clear, why, wall);
     };
-    const bool ended = advance(medium_, r.st, r.w, dphi, r.cos_t, r.sin_t, stop);
-    if (!medium_.uniform) r.sync_direction();  // straight rays keep theta
+    bool ended = advance(medium_, r.st, r.w, dphi, r.cos_t, r.sin_t, stop);
+    if (!medium_.uniform) {
+      r.sync_direction();  // straight rays keep theta
+      if (!ended && turned_back(r)) ended = true, why = Stop::turned;
+    }
     if (!ended) return true;
     r.alive = false;
     r.flags |= ray_flag::dead;
@@ -836,11 +839,23 @@ class TrainTracer {
     } else if (why == Stop::domain) {
       r.flags |= ray_flag::left_domain;
       ++lane.stats.left_domain;
+    } else if (why == Stop::turned) {
+      ++lane.stats.turned_back;
     } else {
       r.flags |= ray_flag::reached_shore;
       ++lane.stats.reached_shore;
     }
     return false;
+  }
+
+  // An incident ray that refraction has turned against the train's direction of travel ends there
+  // (docs/physics.md 2.6). Only a floor that changes within a wavelength turns a ray that far (round
+  // an island or a steep shoal), where rays no longer describe the wave; what is scattered back is
+  // small and mostly breaks on the shoal, and a scatterer must not change the sea upstream of it. The
+  // parabolic models of the mild-slope equation drop the back-scattered wave for the same reason.
+  // Fans spread into the lee by design and reflected waves travel back by design: both are exempt.
+  bool turned_back(const Ray& r) const noexcept {
+    return !reflected_ && r.family < 0 && r.cos_t * front_.dx + r.sin_t * front_.dy < 0.0;
   }
 
   // move_ray within the sweep: a ray that ends gets its end point as an off-grid sample, shoaled over
@@ -1707,6 +1722,7 @@ DwtStats& DwtStats::operator+=(const DwtStats& o) noexcept {
   wall_hits += o.wall_hits;
   left_domain += o.left_domain;
   reached_shore += o.reached_shore;
+  turned_back += o.turned_back;
   reflected_rays += o.reflected_rays;
   insertions_refused += o.insertions_refused;
   shared_steps += o.shared_steps;

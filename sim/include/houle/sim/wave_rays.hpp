@@ -26,6 +26,10 @@
 //   bisecting direction, mean amplitude (a midpoint inside a wall or on land gives a dead ray, a cut).
 //   Between two rays of one diffraction fan the new ray instead starts at the pierhead with the
 //   bisecting angle and is traced up to the current wavefront.
+// - Turned back: an incident ray that refraction turns against the train's direction of travel ends
+//   there (round an island or a steep shoal, where the floor changes within a wavelength and rays no
+//   longer describe the wave); fans and reflected waves are exempt. Traced on, such rays filled the
+//   domain upstream with back-scattered rays and the inserted rays between them.
 // - The wavenumber comes from a tabulated kh(k0h) (relative error 1e-14, sim/src/dispersion_table).
 // - Diffraction ([GL98] 2.2.1): when a ray dies on a wall and its live neighbour R1 has passed one of
 //   that wall's pierheads M, a fan of DIFFRACTED rays from R1's direction to the wall's direction is
@@ -187,6 +191,7 @@ struct DwtStats {
   std::uint64_t crossings = 0;        ///< neighbour pairs that crossed
   std::uint64_t broken_rays = 0;
   std::uint64_t wall_hits = 0, left_domain = 0, reached_shore = 0;
+  std::uint64_t turned_back = 0;      ///< incident rays refraction turned against the train's direction
   std::uint64_t reflected_rays = 0;   ///< rays of reflected waves (included in `rays`)
   std::uint64_t insertions_refused = 0;  ///< wanted but refused at the max_rays cap
   std::uint64_t shared_steps = 0;     ///< steps whose rays advanced on two threads (large fronts)
