@@ -220,7 +220,7 @@ Check check_trains(const std::vector<WaveTrain>& trains) {
       return e;
     }
     if (auto e = non_negative(p + ".amplitude", t.amplitude, "m")) return e;
-    // Stokes / Miche deep-water limit H/L0 = 0.142 (physics.md 2.6), i.e. k0 A = 0.446.
+    // Stokes / Miche deep-water limit H/L0 = 0.142 (docs/physics.md 2.6), i.e. k0 A = 0.446.
     const double l0 = two_pi / deep_water_wavenumber(train_omega(t));
     if (t.amplitude > 0.071 * l0) {
       return bad(p + ".amplitude", "at most the deep-water breaking (Stokes) limit 0.071 L0 = " + num(0.071 * l0) +
