@@ -22,7 +22,7 @@ int can_write(const char* name, char* error, std::size_t error_size) {
 int write_rgb(const char* path, const char* format_name, int width, int height, int linear, const void* pixels, char* error,
               std::size_t error_size) {
   OIIO::ImageSpec spec(width, height, 3, linear ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
-  // zlib level 1: PNG writing dominated frame time at the default 6 (toolchain.md: 45 vs 14 ms).
+  // zlib level 1: PNG writing dominated frame time at the default 6 (docs/design.md 11: 45 vs 14 ms).
   spec.attribute("png:compressionLevel", 1);
   spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
   auto out = OIIO::ImageOutput::create(format_name);

@@ -47,7 +47,7 @@ double larras_fit(double U) noexcept {
   return 0.03 + 0.47 * std::exp(0.96 * U);
 }
 
-// [GL98] eqs. 1, 3-5 in the paper's variables. `corrected` applies physics.md 4.3 items 2 and 4:
+// [GL98] eqs. 1, 3-5 in the paper's variables. `corrected` applies docs/physics.md 4.3 items 2 and 4:
 // U in the pi/2 convention the fit was made for (x sqrt(2/pi)), and Phi the plane-wave phase
 // difference 2 kr sin(theta0) sin(theta) between incident and reflected waves, with no "+ gamma".
 double paper_K(bool corrected, double r_over_L, double beta, double gamma, double alpha) noexcept {

@@ -10,7 +10,7 @@ namespace {
 
 // Newton on f(x) = x tanh x - y, f' = tanh x + x (1 - tanh^2 x) > 0. From x > 0 the iterate stays
 // positive (f / f' < x), and from Fenton & McKee's start (within 1.7 %) it converges in <= 4 steps
-// (physics.md 1.2); a warm start nearer the root needs fewer. Convergence is quadratic with a
+// (docs/physics.md 1.2); a warm start nearer the root needs fewer. Convergence is quadratic with a
 // relative constant below 1, so once a step is below 1e-8 x the iterate it produced is within
 // ~1e-16 x: stop there rather than spend a step confirming it.
 double newton_kh(double y, double x) noexcept {

@@ -4,7 +4,7 @@
 //   int_z^inf e^{i pi t^2/2} dt = (g(z) + i f(z)) e^{i pi z^2/2}.
 // The diffraction code works with g + i f rather than with C and S: it is smooth and of size
 // ~1/(pi z), so the deep shadow (where 1/2 - C and 1/2 - S cancel) keeps full relative precision,
-// and its large phase pi z^2/2 can be merged exactly with the plane-wave phase (physics.md 4.4).
+// and its large phase pi z^2/2 can be merged exactly with the plane-wave phase (docs/physics.md 4.4).
 // Internal to houle_sim (and its tests).
 #pragma once
 #include <complex>

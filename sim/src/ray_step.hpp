@@ -1,4 +1,4 @@
-// One wave ray's state and its integration in phase (physics.md 2.2). Internal to houle_sim.
+// One wave ray's state and its integration in phase (docs/physics.md 2.2). Internal to houle_sim.
 //
 // With the phase phi = integral of k ds as the independent variable (equal-phase stepping):
 //   dx/dphi = cos(theta) / k,  dy/dphi = sin(theta) / k,

@@ -141,7 +141,7 @@ Check check_trains(const std::vector<WaveTrain>& trains) {
     if (t.period.has_value() == t.wavelength.has_value()) {
       return Error{p + ".period", "exactly one of period (s) and wavelength (m)"};
     }
-    // Stokes / Miche deep-water limit H/L0 = 0.142 (physics.md 2.6), i.e. k0 A = 0.446.
+    // Stokes / Miche deep-water limit H/L0 = 0.142 (docs/physics.md 2.6), i.e. k0 A = 0.446.
     const double l0 = two_pi / deep_water_wavenumber(train_omega(t));
     if (t.amplitude > 0.071 * l0) {
       return bad(p + ".amplitude", "at most the deep-water breaking (Stokes) limit 0.071 L0 = " + num(0.071 * l0) +

@@ -256,7 +256,7 @@ constexpr Key<Water> water_keys[] = {
 constexpr Choice diffraction_models[] = {
     {"exact", int(DiffractionModel::exact), "Sommerfeld's solution"},
     {"paper", int(DiffractionModel::paper), "the paper's eqs. 1–5 as printed"},
-    {"paper-corrected", int(DiffractionModel::paper_corrected), "the same with the two typos of physics.md 4.3 fixed"},
+    {"paper-corrected", int(DiffractionModel::paper_corrected), "the same with the two typos of docs/physics.md 4.3 fixed"},
 };
 constexpr Key<DwtSettings> dwt_keys[] = {
     {"initial_rays", &DwtSettings::initial_rays, "", any,

@@ -12,7 +12,7 @@ namespace houle {
 namespace {
 
 constexpr double two_pi = 2.0 * std::numbers::pi;
-// sqrt(Q^2 + L^2) stays below this so that the first-order trochoid never folds (physics.md 3.1: J > 0).
+// sqrt(Q^2 + L^2) stays below this so that the first-order trochoid never folds (docs/physics.md 3.1: J > 0).
 constexpr double max_fold = 0.9;
 // Depth used where the floor is at or above still water (the wave is gone there anyway): keeps the
 // dispersion relation and coth(kh) finite.

@@ -156,7 +156,7 @@ double coefficient(DiffractionModel model, double r_over_l, double theta, double
 
 // K' varies over half a wavelength or more along a ray (faster near the pierhead), so it is computed
 // exactly at knots along each ray at most knot_spacing() apart and interpolated in between.
-// Undiffracted samples take the incident-only coefficient where v (physics.md 4.4, pi/2 convention)
+// Undiffracted samples take the incident-only coefficient where v (docs/physics.md 4.4, pi/2 convention)
 // is below band_end, blended to 1 from band_start.
 constexpr double band_start = 4.0, band_end = 8.0;
 
@@ -655,13 +655,13 @@ class TrainTracer {
       const Fan& f = fans_[std::size_t(family)];
       ++lane.stats.diffraction_evaluations;
       if (exact) {
-        // k r with the optical distance from M (physics.md 4.7): the phase gained since M.
+        // k r with the optical distance from M (docs/physics.md 4.7): the phase gained since M.
         const double s = std::sqrt(4.0 / pi * std::max(0.0, phi - f.phi_m));
         const HalfAngles h = half_angles(f, x - f.site.x, y - f.site.y, true);
         return sommerfeld_modulus_at(s * h.minus, s * h.plus, f.site.reflection);
       }
       const BreakwaterPolar p = breakwater_polar(f.frame, x, y);
-      // Optical distance from M (physics.md 4.7): the phase gained since M, in wavelengths.
+      // Optical distance from M (docs/physics.md 4.7): the phase gained since M, in wavelengths.
       const double r_over_l = std::max(0.0, (phi - f.phi_m) / two_pi);
       // A sample exactly on the structure's line can only be on its lee face (fans start there).
       const double theta = p.kind == BreakwaterPointKind::on_structure ? two_pi : p.theta;
@@ -1112,11 +1112,11 @@ class TrainTracer {
         for (const PairTube& t : {left, right}) {
           if (t.sound) w_prev += t.b_prev, w_now += t.b_now, ++tubes;
         }
-        // Energy flux A^2 Cg b is constant along the tube (physics.md 2.3).
+        // Energy flux A^2 Cg b is constant along the tube (docs/physics.md 2.3).
         const double ratio = tubes > 0 ? w_prev / w_now : 1.0;
         if (!r.joined_now) r.width_ratio = ratio;
         r.a_geo = r.a_prev * std::sqrt(r.cg_prev / r.w.cg * ratio);
-        // Caustic cap: Kr <= Kr_max (physics.md 2.5, cap 2).
+        // Caustic cap: Kr <= Kr_max (docs/physics.md 2.5, cap 2).
         r.a_geo = std::min(r.a_geo, set_.max_refraction_coefficient * train_.amplitude * r.w.ks);
         if ((left.crossed || right.crossed) && r.latest) r.latest->flags |= sample_flag::crossed;
         finalize(main_, id);
@@ -1138,7 +1138,7 @@ class TrainTracer {
     bool crossed = sigma <= 0.0;
     if (persisted) {
       if (!a.tube_crossed && a.tube_sigma > 0.0 && sigma <= 0.0) {
-        // Neighbours swapped sides: a caustic between them (physics.md 2.5).
+        // Neighbours swapped sides: a caustic between them (docs/physics.md 2.5).
         ++main_.stats.crossings;
         a.flags |= ray_flag::crossed;
         b.flags |= ray_flag::crossed;
@@ -1357,7 +1357,7 @@ class TrainTracer {
       const std::int32_t ia = order_[i], ib = order_[i + 1];
       const Ray& a = rays_[std::size_t(ia)];
       const Ray& b = rays_[std::size_t(ib)];
-      if (a.crossed_with == ib) continue;  // never between crossed rays (physics.md 2.4)
+      if (a.crossed_with == ib) continue;  // never between crossed rays (docs/physics.md 2.4)
       if (rays_.size() >= set_.max_rays) {
         ++main_.stats.insertions_refused;
         main_.truncated = true;
@@ -1380,7 +1380,7 @@ class TrainTracer {
     return true;
   }
 
-  // A ray between two live neighbours on the current wavefront (physics.md 2.4): midpoint, bisecting
+  // A ray between two live neighbours on the current wavefront (docs/physics.md 2.4): midpoint, bisecting
   // direction, mean amplitude; flags only where both parents share them.
   std::int32_t insert_midpoint(std::int32_t ia, std::int32_t ib, std::int32_t j) {
     const std::int32_t id = std::int32_t(rays_.size());

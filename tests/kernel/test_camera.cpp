@@ -23,7 +23,7 @@ TEST(Camera, LookingNorthRightIsEastAndTheCentreRayIsTheAxis) {
   EXPECT_NEAR(c.right[0], 1.0f, 1e-7f);
   EXPECT_NEAR(c.up[2], 1.0f, 1e-7f);
   EXPECT_NEAR(c.forward[1], 1.0f, 1e-7f);
-  // theta_pix = 2 tan(fov / 2) / H (rendering.md 5.2): 1.604e-3 rad at 720 rows and 60 degrees.
+  // theta_pix = 2 tan(fov / 2) / H (docs/rendering.md 5.2): 1.604e-3 rad at 720 rows and 60 degrees.
   EXPECT_NEAR(c.pixel_angle, 2.0 * std::tan(0.5 * 1.0471976) / 360.0, 1e-9);
   const auto d = houle::camera_ray(c, 320.0f, 180.0f);  // the image centre (a pixel corner)
   EXPECT_NEAR(d[1], 1.0f, 1e-7f);

@@ -47,7 +47,7 @@ double smoothstep01(double t) {
   t = std::clamp(t, 0.0, 1.0);
   return t * t * (3.0 - 2.0 * t);
 }
-// Catmull-Rom weights for lattice offsets -1, 0, 1, 2 and their derivatives (rendering.md 5.1).
+// Catmull-Rom weights for lattice offsets -1, 0, 1, 2 and their derivatives (docs/rendering.md 5.1).
 void catmull_rom(double t, double w[4], double d[4]) {
   w[0] = (-t * t * t + 2 * t * t - t) / 2;
   w[1] = (3 * t * t * t - 5 * t * t + 2) / 2;
@@ -165,7 +165,7 @@ TEST(Capillary, MatchesDoubleReference) {
 }
 
 TEST(Capillary, LargeCoordinatesAndTimesStayAccurate) {
-  // physics.md 8.22: at x = 1e5 m, t = 1e6 s the float surface matches float64 to 1e-3 A.
+  // docs/physics.md 8.22: at x = 1e5 m, t = 1e6 s the float surface matches float64 to 1e-3 A.
   CapillaryParams p;
   const double slope_scale = p.amplitude / p.base_wavelength;
   std::mt19937 rng(5);
@@ -209,7 +209,7 @@ TEST(Capillary, HeightAndSlopeWithinAnalyticBounds) {
   const CapillaryFrame f = frame_of(p, 2.0);
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> coord(-100.0f, 100.0f);
-  // The bounds themselves (physics.md 6.1): 1.5625 sum k^-i and 3.75 sqrt(2) (a / lambda_1) per octave.
+  // The bounds themselves (docs/physics.md 6.1): 1.5625 sum k^-i and 3.75 sqrt(2) (a / lambda_1) per octave.
   // (With the documented 2^-12 rounding margin.)
   const double margin = 1.0 + 1.0 / 4096.0;
   EXPECT_NEAR(houle::capillary_height_bound(p, 6.0f), margin * p.amplitude * 1.5625 * (2.0 - 1.0 / 32.0), 1e-6 * p.amplitude);
@@ -457,7 +457,7 @@ TEST(Capillary, ContinuousInTimeIncludingOffsetWraps) {
   std::printf("capillary: continuity checked across %d offset wraps\n", wraps);
 }
 
-// ---- Slope variance of dropped octaves (rendering.md 5.4) ----
+// ---- Slope variance of dropped octaves (docs/rendering.md 5.4) ----
 
 TEST(Capillary, DroppedSlopeVarianceMatchesMeasurement) {
   // Stated tolerance 10 %. Octaves have independent, isotropic slopes of equal variance, so the
@@ -509,7 +509,7 @@ TEST(Capillary, DroppedSlopeVarianceMatchesMeasurement) {
 // ---- Level of detail ----
 
 TEST(Capillary, OctaveLevelFollowsFootprint) {
-  // rendering.md 5.2 table: 1280x720, 60 deg fov (theta_pix = 1.604e-3), lambda_1 = 0.5 m, k = 2, N = 2.
+  // docs/rendering.md 5.2 table: 1280x720, 60 deg fov (theta_pix = 1.604e-3), lambda_1 = 0.5 m, k = 2, N = 2.
   CapillaryParams p;
   const float theta = 1.604e-3f;
   const float t[7] = {2, 5, 10, 20, 50, 100, 200}, across[7] = {6, 5.96f, 4.96f, 3.96f, 2.64f, 1.64f, 0.64f};

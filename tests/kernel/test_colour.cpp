@@ -65,7 +65,7 @@ TEST(Colour, TablesAreTheCieAndPopeFryData) {
   EXPECT_NEAR(5 * sx, 106.8655, 0.05);
   EXPECT_NEAR(5 * sy, 106.8569, 0.05);
   EXPECT_NEAR(5 * sz, 106.8923, 0.05);
-  // rendering.md 4.3: a(450) = 0.00922, a(500) = 0.0204, a(550) = 0.0565, a(600) = 0.2224, a(700) = 0.624 /m.
+  // docs/rendering.md 4.3: a(450) = 0.00922, a(500) = 0.0204, a(550) = 0.0565, a(600) = 0.2224, a(700) = 0.624 /m.
   EXPECT_EQ(d.water_absorption[14], 0.00922);
   EXPECT_EQ(d.water_absorption[24], 0.0204);
   EXPECT_EQ(d.water_absorption[34], 0.0565);
@@ -107,7 +107,7 @@ TEST(Colour, SrgbTransferCurve) {
 }
 
 TEST(Colour, SmitsRoundTripOfPrimariesWithin1_5PercentAndWhiteIsWhite) {
-  // Under Smits' design condition (white E, sRGB primaries), 34 nm bins: rendering.md 4.1 measured 1.3 %.
+  // Under Smits' design condition (white E, sRGB primaries), 34 nm bins: docs/rendering.md 4.1 measured 1.3 %.
   double worst = 0.0;
   for (const LinearRgb& c : nominal_colours) {
     const LinearRgb back = houle::reflectance_to_linear_srgb(houle::smits_spectrum(c), houle::Illuminant::equal_energy);
@@ -218,7 +218,7 @@ TEST(WaterColour, WhiteTransmittanceMatchesTestVectors) {
   EXPECT_LE(worst_lut, 1e-3);    // 64 entries, linear interpolation in d
   std::printf("white transmittance 0-100 m: spectral max error %.1e, LUT (64 entries) max error %.1e\n", worst_exact,
               worst_lut);
-  // rendering.md 3.4: 1 m -> (0.737, 0.954, 1.000), 5 m -> (0.178, 0.782, 0.989).
+  // docs/rendering.md 3.4: 1 m -> (0.737, 0.954, 1.000), 5 m -> (0.178, 0.782, 0.989).
   EXPECT_LE(max_abs_diff(houle::water_transmittance_rgb(1.0), {0.737f, 0.954f, 1.000f}), 5e-4);
   EXPECT_LE(max_abs_diff(houle::water_transmittance_rgb(5.0), {0.178f, 0.782f, 0.989f}), 5e-4);
 }
@@ -248,7 +248,7 @@ TEST(WaterColour, InfiniteDistanceIsTheSeaColour) {
   EXPECT_LE(max_abs_diff(lut.transmitted({0.9f, 0.2f, 0.4f}, inf), pacific.linear), 1e-4);
   EXPECT_EQ(max_abs_diff(lut.absorbed({0.9f, 0.2f, 0.4f}, inf), {0, 0, 0}), 0.0);
   EXPECT_LE(max_abs_diff(lut.transmitted_rgb_approx({0.9f, 0.2f, 0.4f}, inf), pacific.linear), 1e-6);
-  // sRGB8 of the Pacific at sigma 20 nm: (0, 90, 165) (rendering.md 4.4).
+  // sRGB8 of the Pacific at sigma 20 nm: (0, 90, 165) (docs/rendering.md 4.4).
   EXPECT_EQ(houle::srgb_encode_u8(lut.sea_colour().g), 90);
   EXPECT_EQ(houle::srgb_encode_u8(lut.sea_colour().b), 165);
 }

@@ -141,7 +141,7 @@ TEST(Gerstner, SineWaveIsExact) {
 }
 
 TEST(Gerstner, PhaseStaysAccurateAtHugeTimes) {
-  // physics.md 8.22: at t = 1e6 s the float surface must match double to 1e-3 A.
+  // docs/physics.md 8.22: at t = 1e6 s the float surface must match double to 1e-3 A.
   GerstnerWave w{0.6f, 0.8f, 6.2831853f / 3.0f, 0.2f, 0.5f, 0.0f, 0.1f};
   w.omega = std::sqrt(9.81f * w.wavenumber);
   for (double t : {1e6, 1e7, 123456789.5}) {

@@ -281,7 +281,7 @@ TEST(Renderer, FresnelStraightDownAndGrazing) {
   scene.spheres.clear();
   Renderer r = make_renderer(scene, W, H, {}, 1);
   const houle::SurfaceFrame flat = make_surface(0.0, 0.0f, 0.0f, true);
-  // Straight down: K_r = ((1.34 - 1) / (1.34 + 1))^2 = 0.02111 (rendering.md 3.2).
+  // Straight down: K_r = ((1.34 - 1) / (1.34 + 1))^2 = 0.02111 (docs/rendering.md 3.2).
   const Camera down = make_cam({0.0f, 0.0f, 10.0f}, {0.0f, 0.0f, 0.0f}, W, H, {0.0f, 1.0f, 0.0f});
   Framebuffer fb(W, H);
   r.render(flat, nullptr, nullptr, down, fb, RenderView::sea_reflectance);

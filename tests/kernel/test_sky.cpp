@@ -77,7 +77,7 @@ TEST(Preetham, MatchesTestVectors) {
 }
 
 TEST(Preetham, ZenithValuesOfTheReference) {
-  // rendering.md 6.1: T = 3, sun at 30 deg: Y_z = 10.41 kcd/m^2, (0.2534, 0.2598);
+  // docs/rendering.md 6.1: T = 3, sun at 30 deg: Y_z = 10.41 kcd/m^2, (0.2534, 0.2598);
   // T = 2.5, sun at 60 deg: 4.32, (0.2415, 0.2473).
   const houle::SkyXyY a = make_sky(3.0, 30.0).zenith();
   EXPECT_NEAR(a.luminance_kcd, 10.41, 0.005);

@@ -1,4 +1,4 @@
-// Hard cases (physics.md 8, rendering guards of issue 7) swept end to end through the scene build,
+// Hard cases (docs/physics.md 8, rendering guards of issue 7) swept end to end through the scene build,
 // the sea surface and the renderer: each asserts finite, bounded and continuous results and prints
 // its worst measured values ("worst:" lines in the test log).
 #include <gtest/gtest.h>
@@ -99,7 +99,7 @@ TEST(HardCases, RaysParallelToTheSea) {
 }
 
 TEST(HardCases, HugeTimesKeepThePhase) {
-  // One train, period 8 s: the surface at t0 + N T equals the surface at t0 to 1e-3 A (physics.md 8.22)
+  // One train, period 8 s: the surface at t0 + N T equals the surface at t0 to 1e-3 A (docs/physics.md 8.22)
   // whatever N, because omega t is reduced in double before it reaches float.
   houle::Scene scene = houle::builtin_coast();
   scene.trains.resize(1);

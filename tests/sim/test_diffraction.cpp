@@ -1,5 +1,5 @@
 // Diffraction behind a semi-infinite breakwater (houle/sim/diffraction.hpp) against the oracles of
-// shared/reference/physics.md 4.5-4.6 and 8 items 12-17 (values from diffraction_check.py, which
+// docs/physics.md 4.5-4.6 and 8 items 12-17 (values from diffraction_check.py, which
 // evaluates the Sommerfeld solution with scipy.special.fresnel), and against analytic properties of
 // the exact solution (Helmholtz, Neumann, limits).
 #include <gtest/gtest.h>
@@ -42,7 +42,7 @@ cplx field_xy(double x, double y, double theta0, double alpha = 1.0) {
   return houle::sommerfeld_field(two_pi * std::hypot(x, y), theta, theta0, alpha);
 }
 
-// physics.md 4.5, the 17-point table, 4 decimals.
+// docs/physics.md 4.5, the 17-point table, 4 decimals.
 struct Row {
   double r_over_L, beta_deg, gamma_deg;
   double exact_rigid, exact_incident, literal0, literal1, phasefix1, fixed0, fixed1;
@@ -104,7 +104,7 @@ TEST(Diffraction, PaperModesReproduceComparisonTable) {
 }
 
 TEST(Diffraction, ShadowLineAndLeeFaceOracles) {
-  // physics.md 4.6, rigid exact at normal incidence, 4 decimals: tolerance 1e-4.
+  // docs/physics.md 4.6, rigid exact at normal incidence, 4 decimals: tolerance 1e-4.
   const double shadow_rl[] = {0.5, 1, 2, 5, 10, 50};
   const double shadow_K[] = {0.5886, 0.5608, 0.5419, 0.5260, 0.5182, 0.5080};
   for (int i = 0; i < 6; ++i) {
@@ -125,8 +125,8 @@ TEST(Diffraction, ShadowLineAndLeeFaceOracles) {
   }
 }
 
-// physics.md 4.6 grid (breakwater on +x from the tip, waves from +y) re-evaluated to 6 decimals
-// with diffraction_check.exact_field (scipy 1.10.1); physics.md prints the same to 3.
+// docs/physics.md 4.6 grid (breakwater on +x from the tip, waves from +y) re-evaluated to 6 decimals
+// with diffraction_check.exact_field (scipy 1.10.1); docs/physics.md prints the same to 3.
 constexpr double grid_x[] = {-4, -2, -1, 0, 1, 2, 4};
 constexpr double grid_y[] = {-0.5, -1, -2, -4, -8};
 constexpr double grid_K[5][7] = {
@@ -227,7 +227,7 @@ TEST(Diffraction, RigidBarrierHasZeroNormalDerivativeOnBothFaces) {
 
 TEST(Diffraction, FiniteAtThePierhead) {
   // r = 0: G(0) = 1/2 for both terms, so |F| = (1 + alpha)/2 exactly (tolerance 1e-15), for any
-  // theta. r = 1e-12 L and 1e-10 L (physics.md 8.16): |F| departs from that by O(sqrt(kr)) ~ 1e-5 at most.
+  // theta. r = 1e-12 L and 1e-10 L (docs/physics.md 8.16): |F| departs from that by O(sqrt(kr)) ~ 1e-5 at most.
   for (double th : {0.0, 1.0, pi, 4.0, two_pi}) {
     for (double th0 : {0.0, 0.3, pi / 2, pi}) {
       EXPECT_NEAR(std::abs(houle::sommerfeld_field(0.0, th, th0, 1.0)), 1.0, 1e-15);
@@ -245,7 +245,7 @@ TEST(Diffraction, FiniteAtThePierhead) {
       }
     }
   }
-  // The paper's printed phase term makes the tip value |cos(gamma/2)| (physics.md 4.3 item 4):
+  // The paper's printed phase term makes the tip value |cos(gamma/2)| (docs/physics.md 4.3 item 4):
   // reproduced by `paper`, fixed by `paper_corrected` (tolerance 1e-12 at r = 0).
   EXPECT_NEAR(K_at_theta(DiffractionModel::paper, 0.0, 1.0, pi / 2, 1.0), std::sqrt(0.5), 1e-12);
   EXPECT_NEAR(K_at_theta(DiffractionModel::paper_corrected, 0.0, 1.0, pi / 2, 1.0), 1.0, 1e-12);
@@ -360,7 +360,7 @@ TEST(Diffraction, NoJumpAcrossTheShadowLine) {
 }
 
 TEST(Diffraction, PaperModelKeepsItsJumpAtU075) {
-  // Eqs. 3 and 4 meet at U = 0.75 only to 1 - (0.03 + 0.47 e^0.72) = 0.004416 (physics.md 4.3 item 3,
+  // Eqs. 3 and 4 meet at U = 0.75 only to 1 - (0.03 + 0.47 e^0.72) = 0.004416 (docs/physics.md 4.3 item 3,
   // 8.14). With alpha = 0, K = H(U_i); put U_i = 0.75 at r/L = 2, gamma = 90 deg and step 1e-9 rad
   // either side: the jump must be reproduced (0.0043..0.0045); the exact field has none (< 1e-7).
   const double rl = 2.0, g = pi / 2;
@@ -388,7 +388,7 @@ TEST(Diffraction, PointsOnTheStructureAndThePierhead) {
     EXPECT_EQ(p.r_over_L, 1.0);
     EXPECT_NEAR(p.beta, -pi, 1e-15);
   }
-  // The two faces are different water: exposed (standing wave, ~2) vs lee (0.2221, physics.md 4.6).
+  // The two faces are different water: exposed (standing wave, ~2) vs lee (0.2221, docs/physics.md 4.6).
   const double K_exposed = K_at_theta(DiffractionModel::exact, 1.0, 0.0, pi / 2, 1.0);
   const double K_lee = K_at_theta(DiffractionModel::exact, 1.0, two_pi, pi / 2, 1.0);
   EXPECT_GT(K_exposed, 1.5);
@@ -497,7 +497,7 @@ TEST(Diffraction, FrameHandlesEitherSideAndAnyRotation) {
 }
 
 TEST(Diffraction, PhaseConventions) {
-  // Exact, deep shadow: crests are circles about M, arg F advances by k dr (physics.md 4.4); over a
+  // Exact, deep shadow: crests are circles about M, arg F advances by k dr (docs/physics.md 4.4); over a
   // quarter wavelength at r = 20 L the asymptotic correction is O(1/kr): tolerance 0.02 rad.
   for (double th : {5.6, 6.0, two_pi}) {  // the shadow line is at theta = 3 pi/2
     const double p0 = houle::diffraction(DiffractionModel::exact, 20.0, th, pi / 2, 1.0)->phase;
@@ -526,9 +526,9 @@ TEST(Diffraction, PhaseConventions) {
 
 TEST(Diffraction, FloatRationalPathErrorBound) {
   // The A&S 7.3.32-33 form errs by at most 1.543e-3 in G (sup over z >= 0, reached at z ~ 2.03 on a
-  // 1e-5 grid; physics.md 4.4 quotes 1.5e-3); F has one G term plus alpha times another, so
+  // 1e-5 grid; docs/physics.md 4.4 quotes 1.5e-3); F has one G term plus alpha times another, so
   // |F_fg - F| <= 1.55e-3 (1 + alpha) plus float rounding (phases reduced in double first, 8.23).
-  // Checked against the double field on random points r/L <= 100. NB physics.md 8.13 asks 2e-3 on
+  // Checked against the double field on random points r/L <= 100. NB docs/physics.md 8.13 asks 2e-3 on
   // the rigid oracles: the A&S fit itself gives up to 2.8e-3 there (in float64 too), so the rigid
   // tables are held to 3e-3 (~ twice the G bound) instead; incident-only meets 2e-3.
   std::mt19937 rng(11);
@@ -561,7 +561,7 @@ TEST(Diffraction, FloatRationalPathErrorBound) {
 }
 
 TEST(Diffraction, PaperModelErrorOverTheDenseGrid) {
-  // physics.md 4.5 dense grid: r/L = 0.5, 0.6, ..., 10 (96) x 361 beta spanning the water (1e-3 rad
+  // docs/physics.md 4.5 dense grid: r/L = 0.5, 0.6, ..., 10 (96) x 361 beta spanning the water (1e-3 rad
   // inside each face). Prints how far the paper models are from the exact field; asserts only that
   // the oracle's measurement (diffraction_check.py, 3 decimals) is reproduced, to 1e-3.
   struct Case {

@@ -1,4 +1,4 @@
-// Dispersion against converged references and the values of physics.md 1 and 8.1-8.3.
+// Dispersion against converged references and the values of docs/physics.md 1 and 8.1-8.3.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -46,7 +46,7 @@ TEST(Dispersion, SolveKhMatchesConvergedRootOverKhRange) {
 }
 
 TEST(Dispersion, ResidualBelow1e12OverWholeRange) {
-  // physics.md 8.1: relative residual of x tanh x = y below 1e-12 for y in [1e-8, 1e4].
+  // docs/physics.md 8.1: relative residual of x tanh x = y below 1e-12 for y in [1e-8, 1e4].
   double worst = 0.0;
   for (double y : log_space(1e-8, 1e4, 20001)) {
     const double x = houle::solve_kh(y);
@@ -89,7 +89,7 @@ TEST(Dispersion, DeepAndShallowLimits) {
     EXPECT_NEAR(w.c / std::sqrt(houle::gravity * h), 1.0, w.kh * w.kh) << h;
     EXPECT_NEAR(w.n, 1.0, w.kh * w.kh);
   }
-  // physics.md 1.1: kh > pi => C within 0.19 % of g/omega and n = 0.512 at kh = pi.
+  // docs/physics.md 1.1: kh > pi => C within 0.4 % of g/omega and n = 0.512 at kh = pi.
   EXPECT_NEAR(houle::group_velocity_ratio(pi), 0.512, 5e-4);
   EXPECT_LT(1.0 - std::tanh(pi), 0.0038);
 }
@@ -167,7 +167,7 @@ TEST(Dispersion, LandIsAFlagNeverNan) {
 }
 
 TEST(Dispersion, ShoalingCoefficientReferenceValues) {
-  // physics.md 1.3 (dispersion_check.py), 4 decimals.
+  // docs/physics.md 1.3 (dispersion_check.py), 4 decimals.
   const struct {
     double k0h, ks;
   } table[] = {{0.01, 2.2417}, {0.1, 1.2894}, {0.5, 0.9553}, {1.0, 0.9130}, {2.0, 0.9548}, {5.0, 0.9996}};
@@ -193,7 +193,7 @@ TEST(Dispersion, ShoalingCoefficientReferenceValues) {
 }
 
 TEST(Dispersion, CelerityDepthDerivativeMatchesFiniteDifferences) {
-  // physics.md 2.2 / ray_checks.py: (1/C) dC/dh = 2k / (2kh + sinh 2kh) at fixed omega, to 7 digits.
+  // docs/physics.md 2.2 / ray_checks.py: (1/C) dC/dh = 2k / (2kh + sinh 2kh) at fixed omega, to 7 digits.
   const double omega = 2.0 * pi / 8.0;
   for (double h : {0.5, 3.0, 10.0, 40.0}) {
     const double e = 1e-6;

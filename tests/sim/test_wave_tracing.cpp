@@ -1,4 +1,4 @@
-// Dynamic Wave Tracing against oracles (physics.md 8.4-8.11): straight rays on a flat bottom, Snell
+// Dynamic Wave Tracing against oracles (docs/physics.md 8.4-8.11): straight rays on a flat bottom, Snell
 // and shoaling on a planar beach, the insertion invariant, flux conservation, caustics behind a shoal,
 // the shoreline and breaking, walls and the domain edge, determinism, and the paper's Fig. 4 scene.
 #include <gtest/gtest.h>
@@ -157,7 +157,7 @@ TEST(WaveTracing, EffectPlanSkipsRaysAndDiffraction) {
   EXPECT_EQ(stats.diffracted_rays, 0u);
 }
 
-// ---- Flat bottom (physics.md 8.4) ------------------------------------------------------------------
+// ---- Flat bottom (docs/physics.md 8.4) ------------------------------------------------------------------
 
 TEST(WaveTracing, FlatBottomStraightRaysConstantAmplitudeNoInsertion) {
   const Scene s = flat_scene();
@@ -205,7 +205,7 @@ TEST(WaveTracing, FlatBottomStraightRaysConstantAmplitudeNoInsertion) {
   }
 }
 
-// ---- Planar beach: Snell and shoaling (physics.md 8.5) -------------------------------------------
+// ---- Planar beach: Snell and shoaling (docs/physics.md 8.5) -------------------------------------------
 
 void check_snell_and_shoaling(double step) {
   const Scene s = beach_scene(60.0, step);
@@ -253,7 +253,7 @@ TEST(WaveTracing, PlanarBeachConservesSnellAndFollowsShoaling) {
   check_snell_and_shoaling(0.25);  // converged: the same invariants at any step
 }
 
-// ---- Insertion (physics.md 8.7) ------------------------------------------------------------------
+// ---- Insertion (docs/physics.md 8.7) ------------------------------------------------------------------
 
 TEST(WaveTracing, InsertionKeepsNeighboursWithinBmaxAndBetweenParents) {
   const Scene s = shoal_scene(3.0);
@@ -330,7 +330,7 @@ TEST(WaveTracing, EnergyFluxConservedOnASmoothBottom) {
   std::printf("energy flux across wavefronts over a shoal: max deviation %.3f %%\n", 100.0 * worst);
 }
 
-// ---- Caustics: circular shoal (physics.md 8.6) ----------------------------------------------------
+// ---- Caustics: circular shoal (docs/physics.md 8.6) ----------------------------------------------------
 
 TEST(WaveTracing, CircularShoalIsSymmetricCrossesAndStaysCapped) {
   const Scene s = shoal_scene(7.0);  // crest 3 m under water: strong focusing, caustics behind
@@ -371,7 +371,7 @@ TEST(WaveTracing, CircularShoalIsSymmetricCrossesAndStaysCapped) {
               static_cast<unsigned long long>(stats.crossings), crossed, worst);
 }
 
-// ---- Shoreline and breaking (physics.md 8.9) --------------------------------------------------------
+// ---- Shoreline and breaking (docs/physics.md 8.9) --------------------------------------------------------
 
 Scene shore_scene(double amplitude) {
   Scene s;
@@ -427,7 +427,7 @@ TEST(WaveTracing, RaysStopAtTheShorelineAndNeverExceedTheBreakingLimit) {
   }
 }
 
-// ---- Walls and the domain edge (physics.md 8.8) -------------------------------------------------------
+// ---- Walls and the domain edge (docs/physics.md 8.8) -------------------------------------------------------
 
 TEST(WaveTracing, RaysEndFlaggedOnWallsAndAtTheDomainEdge) {
   Scene s = flat_scene();
@@ -464,7 +464,7 @@ TEST(WaveTracing, RaysEndFlaggedOnWallsAndAtTheDomainEdge) {
   }
 }
 
-// ---- Determinism (physics.md 8.11) -----------------------------------------------------------------
+// ---- Determinism (docs/physics.md 8.11) -----------------------------------------------------------------
 
 template <class T>
 std::vector<T> values(std::span<const T> v) {
@@ -620,7 +620,7 @@ TEST(WaveTracing, PaperFig4Scene) {
               static_cast<unsigned long long>(stats.inserted_rays), static_cast<unsigned long long>(stats.diffracted_rays),
               static_cast<unsigned long long>(stats.samples), static_cast<unsigned long long>(stats.diffraction_evaluations),
               std::chrono::duration<double, std::milli>(t1 - t0).count(), c1 - c0);
-  // The alternative reading of the paper: a 69 m front at exactly 1 m spacing (physics.md 2.1).
+  // The alternative reading of the paper: a 69 m front at exactly 1 m spacing (docs/physics.md 2.1).
   Scene narrow = s;
   narrow.dwt.front_width = 69.0 + 1.0;
   houle::DwtStats ns;
@@ -680,7 +680,7 @@ TEST(WaveTracing, DiffractedAmplitudesFollowTheExactCoefficient) {
 }
 
 TEST(WaveTracing, DiffractedRaysKeepTheirAmplitudeOnAFlatBottomAtAnyStep) {
-  // physics.md 8.18 / eq. 7: on a flat bottom the radial spreading is in K' alone, so A / K' = A_M
+  // docs/physics.md 8.18 / eq. 7: on a flat bottom the radial spreading is in K' alone, so A / K' = A_M
   // along every diffracted ray (inserted ones too: their parents agree), whatever the step. Tolerance
   // 1.2e-7 relative: K' is reported as a float (5.9e-8 measured, its rounding).
   for (double step : {0.2, 0.4, 0.8}) {
@@ -708,7 +708,7 @@ TEST(WaveTracing, DiffractedRaysKeepTheirAmplitudeOnAFlatBottomAtAnyStep) {
 }
 
 TEST(WaveTracing, TurningRaysConserveSnellAndEndCleanly) {
-  // physics.md 8.10: rays heading 5 degrees seaward along a beach's contours turn back towards the
+  // docs/physics.md 8.10: rays heading 5 degrees seaward along a beach's contours turn back towards the
   // shore where sin(angle from the normal) / C would exceed 1/C. Nothing stalls or goes non-finite,
   // cos(theta) / C (Snell on contours along x) is conserved through the turning point, theta changes
   // smoothly, and every ray ends.
@@ -736,7 +736,7 @@ TEST(WaveTracing, TurningRaysConserveSnellAndEndCleanly) {
   }
   EXPECT_LT(min_theta, -0.05);  // they did head seaward
   EXPECT_GT(max_theta, 0.0);    // and turned shoreward
-  EXPECT_LT(worst_snell, 2.5e-6);  // "about 1e-6" (physics.md 8.5); 1.3e-6 measured, at the turning point
+  EXPECT_LT(worst_snell, 2.5e-6);  // "about 1e-6" (docs/physics.md 8.5); 1.3e-6 measured, at the turning point
   EXPECT_LT(worst_turn, 0.05);  // a few sub-steps of at most 0.05 rad each would show as more
   std::printf("turning rays: theta from %.3f to %.3f rad, cos(theta)/C conserved to %.1e, largest turn per step %.1e rad\n",
               min_theta, max_theta, worst_snell, worst_turn);

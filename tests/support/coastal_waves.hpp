@@ -1,4 +1,4 @@
-// rendering.md 1.3's coastal test sea as trochoids: 7 trains from a 0.6 m swell down to 0.55 m chop.
+// docs/rendering.md 1.3's coastal test sea as trochoids: 7 trains from a 0.6 m swell down to 0.55 m chop.
 // Shared by the kernel tests and benchmarks so they measure and check the same surface.
 #pragma once
 #include <cmath>

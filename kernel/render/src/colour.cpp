@@ -86,7 +86,7 @@ constexpr Mat3 srgb_primaries_to_xyz(double wx, double wy) {
   return p;
 }
 
-// rendering.md 4.2, as printed (7 decimals).
+// docs/rendering.md 4.2, as printed (7 decimals).
 constexpr Mat3 xyz_to_srgb = {{{3.2409699, -1.5373832, -0.4986108},
                                {-0.9692436, 1.8759675, 0.0415551},
                                {0.0556301, -0.2039770, 1.0569715}}};
@@ -152,7 +152,7 @@ constexpr double luminance_row[3] = {0.2126390, 0.7151687, 0.0721923};
   return float(luminance_row[0]) * c.r + float(luminance_row[1]) * c.g + float(luminance_row[2]) * c.b;
 }
 
-/// Grey mixing of rendering.md 4.2, in double: the fraction t of grey (Y, Y, Y) to mix in.
+/// Grey mixing of docs/rendering.md 4.2, in double: the fraction t of grey (Y, Y, Y) to mix in.
 double grey_fraction(const Vec3d& rgb, double y) {
   const double lo = std::min({rgb[0], rgb[1], rgb[2]});
   if (lo >= 0.0) return 0.0;
@@ -227,7 +227,7 @@ struct BasisWeights {
 };
 [[gnu::always_inline]] inline BasisWeights basis_weights(LinearRgb c) {
   const float r = std::max(c.r, 0.0f), g = std::max(c.g, 0.0f), b = std::max(c.b, 0.0f);
-  // Smits 1999 (rendering.md 4.1) in sorted form: the smallest channel is white; the middle one's excess
+  // Smits 1999 (docs/rendering.md 4.1) in sorted form: the smallest channel is white; the middle one's excess
   // over it goes to the secondary lacking the smallest channel (cyan lacks red, ...), the largest one's
   // excess over the middle to its primary. Written without data-dependent branches: colours along a
   // row of pixels change order unpredictably.

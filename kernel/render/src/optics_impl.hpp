@@ -45,7 +45,7 @@ struct InterfaceRays {
   simd::vmask<A> from_outside;  ///< arrived from the side the normal points to
 };
 
-/// rendering.md 3.3. (ix, iy, iz): unit direction towards the surface; (nx, ny, nz): unit normal into
+/// docs/rendering.md 3.3. (ix, iy, iz): unit direction towards the surface; (nx, ny, nz): unit normal into
 /// the n_outside medium. c = -N.I < 0 means the ray comes from the inside: the normal is flipped and the
 /// indices swapped. Reflected R = I + 2cN, refracted T = eta I + (eta c - cos_t) N; both are unit for
 /// unit inputs and are renormalised anyway so that float rounding does not accumulate along bounces.

@@ -209,7 +209,7 @@ LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const
 }
 
 /// Eq. 12 for `object` seen through `distance` m of water, with the object's light having come down
-/// `light_path` m of water itself (rendering.md 3.4's refinement, exact in the LUT because K is a
+/// `light_path` m of water itself (docs/rendering.md 3.4's refinement, exact in the LUT because K is a
 /// per-wavelength exponential): K(d + s) I_obj + (1 - K(d)) I_sea.
 LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float light_path) const noexcept {
   if (quality.spectral_absorption) {
@@ -315,7 +315,7 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
   const std::size_t w = width;
   float* const* a = s.a;
   // Eq. 8 normals, bent towards the viewer's side where a steep facet would face away from the ray
-  // (rendering.md 3.3 (a)), then the exact Fresnel split for the whole row in one SIMD batch.
+  // (docs/rendering.md 3.3 (a)), then the exact Fresnel split for the whole row in one SIMD batch.
   for (std::size_t i = 0; i < w; ++i) {
     const MarchStatus st = s.status[i];
     Vec3 n{0.0f, 0.0f, 1.0f};

@@ -3,7 +3,7 @@
 // queries allocate nothing and are exact: closed forms for boxes and spheres, found through a bounding
 // volume hierarchy (walls arrive as many boxes); the floor's bilinear cells solved as quadratics along
 // the ray, found by a hierarchical grid walk over a maximum mipmap of the heights (Tevs et al. 2008,
-// rendering.md 1.5, here on the CPU with a 2-D DDA per level).
+// docs/rendering.md 1.5, here on the CPU with a 2-D DDA per level).
 //
 // The arithmetic is double: rays here are few per pixel, and the grid walk and quadratics are then
 // robust for the long, grazing rays a low camera sends over the beach.

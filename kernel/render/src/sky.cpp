@@ -13,7 +13,7 @@ constexpr double pi = std::numbers::pi;
 // cos(sky_max_view_zenith_rad) = sin(0.001): the lowest view z the model is evaluated at.
 constexpr double min_view_z = 9.9999983333334168e-4;
 
-// Preetham et al. 1999, appendix A.2 (rendering.md 6.1): Perez coefficients linear in turbidity T,
+// Preetham et al. 1999, appendix A.2 (docs/rendering.md 6.1): Perez coefficients linear in turbidity T,
 // rows A..E, columns (slope, intercept), for Y, x, y.
 constexpr double perez_coeffs[3][5][2] = {
     {{0.1787, -1.4630}, {-0.3554, 0.4275}, {-0.0227, 5.3251}, {0.1206, -2.5771}, {-0.0670, 0.3703}},

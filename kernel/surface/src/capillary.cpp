@@ -67,7 +67,7 @@ struct LatticeHolder {
   LatticeHolder() noexcept : table{} { fill_lattice(table); }
 };
 
-// Catmull-Rom constants (rendering.md 5.1, physics.md 6.1): max sum|w| = 1.25, max sum|w'| = 3 (both
+// Catmull-Rom constants (docs/rendering.md 5.1, docs/physics.md 6.1): max sum|w| = 1.25, max sum|w'| = 3 (both
 // at t = 1/2), so |N| <= 1.25^2 and |grad N| <= sqrt(2) 3 * 1.25 per lattice unit; the integrals
 // int_0^1 sum w^2 = 57/70 and int_0^1 sum w'^2 = 7/3 give the slope variance of iid lattice values.
 constexpr double value_overshoot = 1.5625;
@@ -75,7 +75,7 @@ constexpr double gradient_overshoot = 3.75 * std::numbers::sqrt2;
 constexpr double slope_integrals = (57.0 / 70.0) * (7.0 / 3.0);
 constexpr double bound_margin = 1.0 + 1.0 / 4096.0;
 
-// Capillary-gravity phase speed c = sqrt(g / kappa + (sigma / rho) kappa) (physics.md 6.3).
+// Capillary-gravity phase speed c = sqrt(g / kappa + (sigma / rho) kappa) (docs/physics.md 6.3).
 constexpr double gravity = 9.81;               // m/s^2
 constexpr double surface_tension = 0.074 / 1000.0;  // sigma / rho, m^3/s^2
 

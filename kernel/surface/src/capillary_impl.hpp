@@ -2,7 +2,7 @@
 //
 // Lattice: 256 x 256 values q in [-127, 127] (value q / 127), packed so that one 32-bit word holds
 // the 4 consecutive values of a row that a Catmull-Rom sample needs: a sample costs 4 lookups per
-// octave instead of 16 (gathers cost ~1.4 cycles per element, performance.md; with packing they are
+// octave instead of 16 (gathers cost ~1.4 cycles per element, docs/design.md 10; with packing they are
 // ~20% of this kernel's time on Zen 3, the interpolation with its gradient is the rest). The table
 // has 259 rows (row p holds lattice row p - 1 mod 256), so the 4 rows of a sample are base + 0..3
 // rows without wrapping each one. Only +, -, * and exact conversions: every ISA gives the scalar bits.
@@ -34,7 +34,7 @@ struct CapillaryPoint {
 };
 
 /// Catmull-Rom weights times 2 (the 1/2 is folded into value_scale) and their derivatives at the
-/// fractional position t in [0, 1], Horner form (rendering.md 5.1), one lattice offset at a time.
+/// fractional position t in [0, 1], Horner form (docs/rendering.md 5.1), one lattice offset at a time.
 template <class V>
 struct CatmullRom2 {
   V t, t2, a;  // a = 4 - 3t is shared by two weights

@@ -71,7 +71,7 @@ inline xsimd::batch<std::int32_t, A> signed_byte(xsimd::batch<std::int32_t, A> w
   }
 }
 /// AVX2 and AVX-512 use the gather instructions (xsimd 8.1's integer gather falls back to inserts,
-/// performance.md); the others load lane by lane.
+/// docs/design.md 10); the others load lane by lane.
 template <class A>
 inline xsimd::batch<std::int32_t, A> gather(const std::int32_t* table, xsimd::batch<std::int32_t, A> index) {
 #if defined(__AVX512F__)

@@ -4,7 +4,7 @@
 //   + features (shoals, bars, channels: (1 - u)^3 profiles, C2 in u, C1 in (x, y) at worst)
 //   (+ or instead of the base: the height map, Catmull-Rom bicubic with the stencil mirrored at the
 //   edges, C1 everywhere; constant beyond the edges).
-// Everything is analytic with an exact gradient, so the ray equations (physics.md 2.2) see a C1 floor.
+// Everything is analytic with an exact gradient, so the ray equations (docs/physics.md 2.2) see a C1 floor.
 // Depth may be negative (land): this module reports the floor as it is, and the callers decide what is
 // water (the ray tracer never hands h <= h_min to the dispersion solver). Catmull-Rom can overshoot the
 // samples near a steep shoreline by at most 28 % of the local range (2-D weights: negative part

@@ -1,6 +1,6 @@
-// Diffraction of a monochromatic plane wave by a thin semi-infinite breakwater (physics.md 4).
+// Diffraction of a monochromatic plane wave by a thin semi-infinite breakwater (docs/physics.md 4).
 //
-// Local frame (physics.md 4.2). The pierhead M is the origin and the structure is the half-line
+// Local frame (docs/physics.md 4.2). The pierhead M is the origin and the structure is the half-line
 // theta = 0 = 2 pi. A point P is (r, theta), r >= 0 in m, theta in [0, 2 pi] rad counter-clockwise
 // from the structure: theta = 0 is the exposed face, theta = 2 pi the lee face, theta = pi the line
 // straight behind the tip. The waves COME FROM direction theta0 in [0, pi] (they propagate along
@@ -16,7 +16,7 @@
 // alpha = 1 is the exact Sommerfeld / Penney & Price (1952) solution for a rigid, fully reflecting
 // barrier; alpha = 0 keeps the incident term only (the usual Kirchhoff-type approximation for an
 // absorbing barrier, not an exact solution); alpha in between is a heuristic for partial reflection
-// (physics.md 4.4). The surface elevation is A_M |F| cos(arg F - omega t).
+// (docs/physics.md 4.4). The surface elevation is A_M |F| cos(arg F - omega t).
 #pragma once
 #include <complex>
 #include <cstdint>
@@ -28,7 +28,7 @@
 namespace houle {
 
 /// `exact`: |F| and arg F above. `paper`: [GL98] eqs. 1, 3, 4, 5 exactly as printed (the Larras fit;
-/// eq. 4 taken for U < 0.75). `paper_corrected`: the same with the two typos of physics.md 4.3
+/// eq. 4 taken for U < 0.75). `paper_corrected`: the same with the two typos of docs/physics.md 4.3
 /// fixed (U scaled by sqrt(2/pi); Phi = 4 pi (r/L) sin(gamma) cos(beta + gamma)). The paper models
 /// are kept for comparison only: against `exact` (alpha = 1, r/L in [0.5, 10], every beta) they err
 /// by up to 2.17 (paper) and 0.38 (paper_corrected) in K, 0.23 and 0.06 on average.
@@ -104,7 +104,7 @@ std::complex<float> sommerfeld_field_fg(double k_r, double theta, double theta0,
 
 /// One diffraction sample.
 struct DiffractionSample {
-  /// Diffraction coefficient K' (physics.md; H in [GL98]): local amplitude / incident amplitude.
+  /// Diffraction coefficient K' (docs/physics.md 4; H in [GL98]): local amplitude / incident amplitude.
   double K = 0.0;
   /// rad in [-pi, pi], relative to the incident wave's phase at M.
   /// exact: arg F (0 where F = 0).

@@ -1,4 +1,4 @@
-// Linear (Airy) wave dispersion over finite depth (physics.md 1).
+// Linear (Airy) wave dispersion over finite depth (docs/physics.md 1).
 //
 //   omega^2 = g k tanh(k h);  with x = k h and y = k0 h = omega^2 h / g:  x tanh x = y.
 //   C = omega / k,  Cg = n C,  n = (1 + 2kh / sinh 2kh) / 2 in [1/2, 1],  Ks = sqrt(Cg0 / Cg).
@@ -13,7 +13,7 @@
 
 namespace houle {
 
-/// m/s^2, the value physics.md and the reference scripts use.
+/// m/s^2, the value docs/physics.md and the tests' oracle values use.
 inline constexpr double gravity = 9.81;
 
 /// The root x > 0 of x tanh x = y (x = kh, y = k0 h), Fenton & McKee's explicit start followed by
@@ -25,7 +25,7 @@ double solve_kh(double k0h) noexcept;
 double solve_kh(double k0h, double guess) noexcept;
 
 /// n = Cg / C at kh, in [1/2, 1], non-increasing in kh. Series 1 - (kh)^2/3 below kh = 1e-4 (float:
-/// 0.02), and 1/2 above kh = 20, so sinh never overflows (physics.md 1.1). kh <= 0 gives 1 (the
+/// 0.02), and 1/2 above kh = 20, so sinh never overflows (docs/physics.md 1.1). kh <= 0 gives 1 (the
 /// shallow limit).
 double group_velocity_ratio(double kh) noexcept;
 float group_velocity_ratio(float kh) noexcept;
@@ -36,7 +36,7 @@ double shoaling_coefficient(double kh) noexcept;
 float shoaling_coefficient(float kh) noexcept;
 
 /// (1/C) dC/dh at fixed omega = 2k / (2kh + sinh 2kh), 1/m: 1/(2h) in shallow water, -> 0 in deep
-/// water (0 beyond 2kh = 700). Rays bend by dtheta/ds = -(1/C) dC/dh dh/dn (physics.md 2.2).
+/// water (0 beyond 2kh = 700). Rays bend by dtheta/ds = -(1/C) dC/dh dh/dn (docs/physics.md 2.2).
 double celerity_depth_derivative(double k, double kh) noexcept;
 
 /// Everything linear theory says about one wave at one depth.

@@ -186,9 +186,9 @@ struct DwtSettings {
   /// m, rays stop where the depth falls below max(min_depth, min_depth_wavelengths * L0).
   double min_depth = 0.02;
   double min_depth_wavelengths = 0.01;
-  /// gamma_b: the wave height never exceeds gamma_b h (McCowan 0.78; see physics.md 2.6).
+  /// gamma_b: the wave height never exceeds gamma_b h (McCowan 0.78; see docs/physics.md 2.6).
   double breaker_index = 0.78;
-  /// Cap of the refraction coefficient Kr at caustics (physics.md 2.5).
+  /// Cap of the refraction coefficient Kr at caustics (docs/physics.md 2.5).
   double max_refraction_coefficient = 2.5;
   /// Effect plan: trains that need no rays (train_needs_rays) get an analytic description instead.
   /// false traces them anyway (tests, benchmarks).
@@ -252,7 +252,7 @@ Scene builtin_coast();
 /// The paper's Fig. 4 / Plate 2 scene: 100 m x 100 m flat bottom, a semi-infinite sea wall from the
 /// west edge to the middle, 70 initial rays, 0.4 m step, 1.0 m insertion distance. The initial front
 /// spans the whole 100 m (1.43 m spacing), so the first insertion pass already splits every tube:
-/// physics.md 2.1 notes the paper does not say which reading it used.
+/// docs/physics.md 2.1 notes the paper does not say which reading it used.
 Scene paper_fig4();
 
 }  // namespace houle

@@ -12,7 +12,7 @@
 // evaluates the summed trains per frame (SIMD; only the phase changes per frame: omega t reduced in
 // double). Per node, once per scene: the fold Q = q k A coth(kh) (Airy orbits flatten into ellipses
 // whose horizontal axis is A coth kh) and the lean L = Q e^{-kh} (the crest leans shoreward as the
-// water shoals, Fournier & Reeves 1986; physics.md 3.2 gives no constants, so none are invented
+// water shoals, Fournier & Reeves 1986; docs/physics.md 3.2 gives no constants, so none are invented
 // beyond this), scaled together so that sqrt(Q^2 + L^2) <= 0.9: the profile never folds.
 #pragma once
 #include <cstddef>

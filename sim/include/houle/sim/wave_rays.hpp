@@ -1,12 +1,12 @@
-// Dynamic Wave Tracing (DWT, [GL98] and physics.md 2, 4.7, 5): wave orthogonals traced once per scene
+// Dynamic Wave Tracing (DWT, [GL98] and docs/physics.md 2, 4.7, 5): wave orthogonals traced once per scene
 // over the sea floor, per train, with refraction, shoaling, ray insertion, caustic caps, breaking,
 // walls and diffraction fans at pierheads.
 //
-// How a train is traced (the choices physics.md leaves open, and why):
+// How a train is traced (the choices [GL98] leaves open, and why; docs/physics.md 2):
 // - Rays start where the train enters the domain, on a straight front perpendicular to its direction
 //   (outside the domain the sea is taken as uniform at the entry depth: phase = k_entry x distance
 //   from the upstream corner's wavefront, amplitude A0 Ks(h_entry), direction unchanged).
-// - Equal-phase stepping (physics.md 2.2): rays advance by the same phase increment
+// - Equal-phase stepping (docs/physics.md 2.2): rays advance by the same phase increment
 //   dphi = k_ref * step (k_ref: the deepest entry point's k), i.e. ds = dphi / k. Sample j of every
 //   ray then lies on the same crest, so neighbours are compared, inserted and tessellated on a common
 //   wavefront, and samples per wavelength stay constant as waves shorten towards the shore.
@@ -36,14 +36,14 @@
 //   born at M (on the lee corner of a thick wall), with 22.5 degree spacing, refined later by
 //   insertion. DIFFRACTED samples carry K' = |F| of the chosen model with the wall's reflection
 //   coefficient; undiffracted samples near the shadow line carry the incident-only |G(s1)| (they
-//   bring no reflected wave), blended to 1 between v = 4 and 8 (physics.md 4.3 item 7). The two meet
+//   bring no reflected wave), blended to 1 between v = 4 and 8 (docs/physics.md 4.3 item 7). The two meet
 //   at the shadow line with a step of |F| - 1/2 (0.06 at r = L, 0.03 at 5 L for a rigid wall).
 //   K' is computed exactly at knots along each ray (a quarter wavelength apart, down to L/64 near
 //   the pierhead) and interpolated linearly in path length in between: within 5e-3 of the exact
 //   coefficient on the Fig. 4 scene (tests/sim/test_wave_tracing.cpp), for a fifth of the cost.
 //   The sweep needs a knot's value only where a breaking cap could bind (where a_geo times the
 //   bound on K', 1.171 (1 + alpha), exceeds the limit); elsewhere the final gather computes it.
-// - Reflection (physics.md 2.6 ends rays on walls; the reflected wave is added here): the rays of a
+// - Reflection (docs/physics.md 2.6 ends rays on walls; the reflected wave is added here): the rays of a
 //   train that end on a wall with alpha > 0 seed a second trace, the train's reflected wave, as its
 //   own WaveRays. Each seed starts at the hit point with the direction mirrored about the wall
 //   surface's normal there (angle of reflection = angle of incidence), amplitude alpha A_hit and the
@@ -81,7 +81,7 @@
 namespace houle {
 
 /// Per-ray flags: how the ray was born and how it ended (DIFFRACTED, BROKEN, HIT_WALL, LEFT_DOMAIN,
-/// CROSSED, DEAD of the paper and physics.md 2.2).
+/// CROSSED, DEAD of the paper and docs/physics.md 2.2).
 namespace ray_flag {
 inline constexpr std::uint8_t diffracted = 1u << 0;     ///< born at a pierhead
 inline constexpr std::uint8_t broken = 1u << 1;         ///< its height reached the breaking limit

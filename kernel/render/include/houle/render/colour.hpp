@@ -1,4 +1,4 @@
-// Colour (rendering.md 4): spectra on the CIE 5 nm grid, CIE 1931 XYZ, linear sRGB and its transfer
+// Colour (docs/rendering.md 4): spectra on the CIE 5 nm grid, CIE 1931 XYZ, linear sRGB and its transfer
 // curve, Smits 1999 RGB -> spectrum, pure-water absorption, the paper's sea colours, and the
 // per-scene water colour table that applies eq. 12 per wavelength at a per-pixel cost of a few lerps.
 //
@@ -57,9 +57,9 @@ LinearRgb reflectance_to_linear_srgb(const Spectrum& reflectance, Illuminant ill
 
 // ---- XYZ, sRGB -------------------------------------------------------------------------------
 
-/// XYZ -> linear sRGB with rendering.md 4.2's matrix (derived from the sRGB primaries and D65).
+/// XYZ -> linear sRGB with docs/rendering.md 4.2's matrix (derived from the sRGB primaries and D65).
 LinearRgb xyz_to_linear_srgb(const CieXyz& xyz) noexcept;
-/// Linear sRGB -> XYZ (the inverse matrix of rendering.md 4.2).
+/// Linear sRGB -> XYZ (the inverse matrix of docs/rendering.md 4.2).
 CieXyz linear_srgb_to_xyz(LinearRgb rgb) noexcept;
 /// CIE Y of a linear sRGB colour: the middle row of the inverse matrix (0.2126390, 0.7151687, 0.0721923).
 float luminance(LinearRgb rgb) noexcept;
@@ -92,13 +92,13 @@ struct SmitsWeights {
 SmitsWeights smits_weights(LinearRgb rgb) noexcept;
 
 /// A basis spectrum on the 5 nm grid: Smits' 10 values as piecewise-constant 34 nm bins from 380 nm
-/// (rendering.md 4.1; 10 point samples interpolated would err by up to 9 %). Above 720 nm, where the
+/// (docs/rendering.md 4.1; 10 point samples interpolated would err by up to 9 %). Above 720 nm, where the
 /// table ends, the last bin's value continues (the CMFs are nearly 0 there).
 Spectrum smits_basis_spectrum(SmitsBasis basis) noexcept;
 /// The reflectance spectrum of a linear RGB colour.
 Spectrum smits_spectrum(LinearRgb rgb) noexcept;
 
-// ---- Sea colours (rendering.md 4.4) --------------------------------------------------------------
+// ---- Sea colours (docs/rendering.md 4.4) --------------------------------------------------------------
 
 /// The paper's table (Ivanoff 1975): dominant wavelength of each sea.
 enum class Sea : std::uint8_t { pacific, indian, mediterranean, atlantic, baltic, panama_gulf, senegal_coast };
@@ -171,7 +171,7 @@ class WaterColourLut {
 
   /// The cheap option: three exponentials, K_c = e^{-a_c d}, with effective coefficients a_c fitted at
   /// rgb_fit_distance_m, and I_sea's RGB. Exact at 0 and at the fit distance for a white object; the
-  /// effective coefficient of real water is not constant (rendering.md 3.4), hence the LUT.
+  /// effective coefficient of real water is not constant (docs/rendering.md 3.4), hence the LUT.
   LinearRgb transmitted_rgb_approx(LinearRgb object, float distance_m) const noexcept;
   /// The fitted a_c in 1/m (red, green, blue).
   std::array<float, 3> rgb_absorption_per_m() const noexcept { return rgb_absorption_; }

@@ -1,5 +1,5 @@
 // Optics of a smooth air/water interface: Fresnel reflectance and the reflected and refracted rays
-// (rendering.md 3.2, 3.3). The per-packet templates the shading calls live in src/optics_impl.hpp;
+// (docs/rendering.md 3.2, 3.3). The per-packet templates the shading calls live in src/optics_impl.hpp;
 // these are their scalar and batch entry points.
 //
 // Directions are unit vectors in world space (z up) as std::array<float, 3> {x, y, z}.

@@ -1,7 +1,7 @@
 // The renderer: a filled SurfaceFrame (plus capillary noise) and a camera in, a linear-RGB Framebuffer
-// out (paper section 4, eq. 10-12; rendering.md 3, 4.4, 5.4, 6).
+// out (paper section 4, eq. 10-12; docs/rendering.md 3, 4.4, 5.4, 6).
 //
-// Per pixel and sample (eq. 10 with the sea as the special case, rendering.md 3.1):
+// Per pixel and sample (eq. 10 with the sea as the special case, docs/rendering.md 3.1):
 //   * the primary ray is intersected with the scene's objects (boxes, spheres and the floor grid where
 //     it rises above the sea's slab: land, beach) for t_max, then marched against the sea up to it;
 //   * a sea hit is shaded with the exact Fresnel split (eq. 11) of its eq. 8 normal:
@@ -24,9 +24,9 @@
 //
 // Simplifications, on purpose (the real-time budget): secondary rays do not test the sea again, so a
 // reflected ray never meets another wave (one pointing below the horizon has its z clamped to
-// `min_reflected_dz` and is renormalised, rendering.md 3.3); objects are diffuse; light reaching
+// `min_reflected_dz` and is renormalised, docs/rendering.md 3.3); objects are diffuse; light reaching
 // underwater objects is the flat-sea refraction of the sun attenuated along depth / cos(theta_sun,water)
-// (rendering.md 3.4's refinement) and is shadowed by objects only, not by the waves; sky light on
+// (docs/rendering.md 3.4's refinement) and is shadowed by objects only, not by the waves; sky light on
 // objects is the horizontal sky irradiance weighted by (1 + N_z) / 2.
 //
 // Threads: a persistent pool made by create() (no thread is started per frame); rows are handed out by
@@ -88,7 +88,7 @@ struct RenderScene {
   float sea_dominant_wavelength_nm = 490.0f;  ///< I_sea's dominant wavelength (the paper's table), in [380, 780]
 };
 
-/// Accuracy knobs (DESIGN.md: explicit).
+/// Accuracy knobs (docs/design.md 5: explicit).
 struct RenderQuality {
   MarchQuality march{};
   int samples_per_pixel = 1;       ///< 1, 4 or 8, at fixed sub-pixel positions (averaged)

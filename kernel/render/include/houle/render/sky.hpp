@@ -1,4 +1,4 @@
-// Sky and sun for reflections (rendering.md 6): the Preetham, Shirley, Smits 1999 daylight model,
+// Sky and sun for reflections (docs/rendering.md 6): the Preetham, Shirley, Smits 1999 daylight model,
 // its per-frame bake into a small lat-long table, and the sun as an analytic glint lobe.
 //
 // World z is up; directions are unit std::array<float, 3> {x, y, z}. Sky radiance is linear sRGB in
@@ -78,7 +78,7 @@ class SkyLut {
 
 // ---- Sun ----------------------------------------------------------------------------------------
 
-/// The sun's angular radius (rendering.md 6.3) and the slope variance its disc alone spreads a mirror
+/// The sun's angular radius (docs/rendering.md 6.3) and the slope variance its disc alone spreads a mirror
 /// reflection by; it is added to every lobe so that a perfectly smooth sea still has a finite glint.
 inline constexpr float sun_angular_radius_rad = 4.65e-3f;
 inline constexpr float sun_disc_slope_variance = 1e-5f;
@@ -88,7 +88,7 @@ inline constexpr float sun_disc_slope_variance = 1e-5f;
 /// that the integral of D cos(theta_h) over the hemisphere is 1. In 1/sr.
 float gaussian_slope_density(float cos_theta_h, float slope_variance) noexcept;
 
-/// The sun's glint on the sea as an analytic lobe (rendering.md 5.4, 6.3; Bruneton et al. 2010):
+/// The sun's glint on the sea as an analytic lobe (docs/rendering.md 5.4, 6.3; Bruneton et al. 2010):
 /// radiance towards the eye per unit sun irradiance (1/sr),
 ///   L / E_sun = F(v.h) D(h) / (4 cos(theta_v) (1 + Lambda(v) + Lambda(l))),
 /// h the half vector, D the Gaussian slope density with variance slope_variance +

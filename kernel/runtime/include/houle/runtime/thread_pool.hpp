@@ -1,4 +1,4 @@
-// A persistent pool of worker threads for the frame loop (rendering.md 2.3: row bands handed out by an
+// A persistent pool of worker threads for the frame loop (docs/rendering.md 2.3: row bands handed out by an
 // atomic counter, no thread creation per frame). run() hands the same task to every worker and to the
 // caller, which counts as worker 0, and returns when all have finished; how the work is split is the
 // task's business (an atomic row counter in the renderer). run() allocates nothing.

@@ -1,5 +1,5 @@
 // Pinhole camera: primary ray directions for pixel centres (and sub-pixel offsets) and the pixel's
-// angular size, which sets the marcher's accuracy and the capillary LOD (rendering.md 1.2, 5.2).
+// angular size, which sets the marcher's accuracy and the capillary LOD (docs/rendering.md 1.2, 5.2).
 //
 // World frame: x east, y north, z up, still water at z = 0; lengths in m, angles in rad. Pixel
 // (0, 0) is the top-left one; pixel (px, py) covers [px, px + 1] x [py, py + 1] in image
@@ -31,7 +31,7 @@ struct Camera {
   /// Image-plane size of a pixel at unit distance along `forward`: 2 tan(fov / 2) / height.
   float pixel_scale = 0.0f;
   /// theta_pix (rad): the angle a pixel subtends at the image centre, = pixel_scale to first order
-  /// (rendering.md 5.2 uses this value everywhere; off-axis pixels are smaller by cos^2 of their angle,
+  /// (docs/rendering.md 5.2 uses this value everywhere; off-axis pixels are smaller by cos^2 of their angle,
   /// which makes the marcher's step and the noise LOD slightly conservative there).
   float pixel_angle = 0.0f;
 };

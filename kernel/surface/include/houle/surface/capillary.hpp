@@ -1,5 +1,5 @@
 // Capillary ripples: fractal value noise with a continuous distance level (paper eq. 9,
-// physics.md 6, rendering.md 5).
+// docs/physics.md 6, docs/rendering.md 5).
 //
 //   h(x, y) = sum_{i=1..n_max} W_i(level) a_i N_i(x, y, t),   a_i = amplitude k^(1-i)
 //   W_i(level) = smoothstep(clamp(level - (i - 1), 0, 1))
@@ -70,7 +70,7 @@ Expected<CapillaryFrame> make_capillary_frame(const CapillaryParams& params, dou
 
 /// Height h (m) and gradient (dh/dx, dh/dy) at local points (x[i], y[i]) with level[i] in [0, n_max]
 /// (clamped; NaN counts as 0). Level is per sample and is held constant in the gradient: give every
-/// sample of a pixel (hit test, normal) the same level (rendering.md 5.3). Octaves above a sample's
+/// sample of a pixel (hit test, normal) the same level (docs/rendering.md 5.3). Octaves above a sample's
 /// level are skipped, so cost follows distance. Arrays need no alignment; any n; results do not
 /// depend on the other samples in the call, and every ISA gives the scalar path's bits.
 /// grad_x and grad_y may both be null: heights only (~25% cheaper), the same height bits.
@@ -83,7 +83,7 @@ void capillary_eval(const CapillaryFrame& frame, const float* x, const float* y,
 void capillary_eval(Isa isa, const CapillaryFrame& frame, const float* x, const float* y, const float* level,
                     std::size_t n, float* h, float* grad_x, float* grad_y) noexcept;
 
-/// Pixel footprint on the water along the view direction (rendering.md 5.2):
+/// Pixel footprint on the water along the view direction (docs/rendering.md 5.2):
 /// distance * pixel_angle / sin(grazing), sin clamped below at 1e-3.
 float capillary_footprint(float distance_m, float pixel_angle_rad, float sin_grazing) noexcept;
 /// Continuous level for a footprint (m): clamp(log_k(lambda_1 / (N footprint)) + 1, 0, n_max).
@@ -95,7 +95,7 @@ float octave_level(const CapillaryParams& params, float distance_m, float pixel_
 
 /// Bounds for levels <= level (all are nondecreasing in level; use the largest level a ray segment
 /// can see). Height: max |h| <= amplitude 1.5625 sum_i W_i k^(1-i) (Catmull-Rom 2-D overshoot,
-/// physics.md 6.1), for the marcher's slab H_box. Slope: max |grad h| <= (amplitude / lambda_1)
+/// docs/physics.md 6.1), for the marcher's slab H_box. Slope: max |grad h| <= (amplitude / lambda_1)
 /// 3.75 sqrt(2) sum_i W_i (Lipschitz constant, m/m). Both carry a 2^-12 relative margin for rounding.
 float capillary_height_bound(const CapillaryParams& params, float level) noexcept;
 float capillary_slope_bound(const CapillaryParams& params, float level) noexcept;
@@ -105,7 +105,7 @@ float capillary_slope_bound(const CapillaryParams& params, float level) noexcept
 /// isotropic (x and y variances equal, covariance 0) and independent between octaves.
 float octave_slope_variance(const CapillaryParams& params) noexcept;
 /// Per-axis slope variance that a surface at `level` lacks compared with n_max octaves:
-/// octave_slope_variance * sum_i (1 - W_i^2). Add it to the BRDF's slope variance (rendering.md 5.4)
+/// octave_slope_variance * sum_i (1 - W_i^2). Add it to the BRDF's slope variance (docs/rendering.md 5.4)
 /// so total roughness does not change with distance.
 float dropped_slope_variance(const CapillaryParams& params, float level) noexcept;
 

@@ -4,7 +4,7 @@
 //   P(u) = u + q A D cos(theta),  z(u) = A sin(theta),  theta = k D.u - omega t + phi
 // (D unit direction of travel, q in [0,1] steepness). The height at a horizontal point x is z(u)
 // where P(u) = x, found by Newton's method on the summed trains; the gradient follows from the
-// exact Jacobian (physics.md 3.1), not from the one-train shortcut.
+// exact Jacobian (docs/physics.md 3.1), not from the one-train shortcut.
 #pragma once
 #include <cstddef>
 #include <cstdint>

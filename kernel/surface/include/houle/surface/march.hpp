@@ -1,5 +1,5 @@
 // Packet ray marcher: first crossing of rays with the frame's sea surface (paper section 3,
-// rendering.md 1.2-1.3, 2.2).
+// docs/rendering.md 1.2-1.3, 2.2).
 //
 // f(t) = o_z + t d_z - S(o_xy + t d_xy), S = H (the SurfaceFrame's LOD grid, morphed between levels)
 // plus capillary noise at the octave level of the sample's distance. Per ray:
@@ -14,9 +14,9 @@
 //      heights, plus the noise gradient): the eq. 8 normal is (-grad_x, -grad_y, 1) normalised.
 // A ray that starts below the surface (f < 0) looks for the crossing from below the same way.
 // Noise is evaluated only inside its envelope: above |f_grid| > noise bound the ray marches against the
-// grid alone (performance.md: coarse march inside an envelope).
+// grid alone (docs/design.md 10: coarse march inside an envelope).
 //
-// Rays are processed in packets of the ISA's width (rendering.md 2.3: take them along screen rows);
+// Rays are processed in packets of the ISA's width (docs/rendering.md 2.3: take them along screen rows);
 // lanes are independent and every ISA gives the scalar path's bits (only +, -, *, simd::div,
 // comparisons, selects and exact loads; a lane's result never depends on its companions).
 #pragma once
@@ -31,7 +31,7 @@
 
 namespace houle {
 
-/// Accuracy knobs (DESIGN.md: explicit). Defaults are the `realtime` point.
+/// Accuracy knobs (docs/design.md 5: explicit). Defaults are the `realtime` point.
 struct MarchQuality {
   float step_fraction = 0.25f;  ///< delta = step_fraction x cone width (pixel footprint across the ray), > 0
   float min_step = 1e-3f;       ///< m, floor of delta near the ray origin, > 0
@@ -46,7 +46,7 @@ struct MarchParams {
   float cone_width = 0.0f;      ///< m, cone width at t = 0 (secondary rays carry their footprint)
   MarchQuality quality{};
   /// Capillary noise added to the grid (null: none). Its level at distance t is octave_level of the
-  /// footprint (cone_width + t pixel_angle) / max(|d_z|, 1e-3) (rendering.md 5.2, along the view).
+  /// footprint (cone_width + t pixel_angle) / max(|d_z|, 1e-3) (docs/rendering.md 5.2, along the view).
   const CapillaryFrame* noise = nullptr;
 };
 

@@ -1,4 +1,4 @@
-// The per-frame surface contract: what the marcher samples (paper section 3, rendering.md 1.1-1.2).
+// The per-frame surface contract: what the marcher samples (paper section 3, docs/rendering.md 1.1-1.2).
 //
 // The sea height z = H(x, y) for one frame is held in nested square grids centred under the camera
 // (clipmap-like LOD levels). Level l has `cells` x `cells` cells of size finest_cell 2^l and stores,
