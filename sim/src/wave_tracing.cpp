@@ -6,15 +6,14 @@
 #include <memory>
 #include <numbers>
 #include <string>
-#include <thread>
 #include <utility>
 
 #include "houle/runtime/bulk_memory.hpp"
+#include "houle/runtime/thread_pool.hpp"
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/wave_rays.hpp"
-#include "helper_lane.hpp"
 #include "ray_step.hpp"
 #include "ray_walls.hpp"
 #include "sommerfeld_tabulated.hpp"
@@ -338,9 +337,10 @@ std::vector<RayEnd> ray_ends(const WaveRays& in) {
 
 class TrainTracer {
  public:
-  // The incident train, from its entry front, on `lanes` threads (1 or 2).
-  TrainTracer(const Scene& scene, std::size_t train, const DwtSettings& set, unsigned lanes)
-      : scene_(scene), set_(set), floor_(scene.floor), train_index_(train), train_(scene.trains[train]), lanes_(lanes) {
+  // The incident train, from its entry front, on the caller's thread and the lanes of `pool` (none,
+  // or a pool of two: see train_pool()).
+  TrainTracer(const Scene& scene, std::size_t train, const DwtSettings& set, ThreadPool* pool)
+      : scene_(scene), set_(set), floor_(scene.floor), train_index_(train), train_(scene.trains[train]), pool_(pool) {
     init_medium();
     front_ = make_front(scene, train, set, medium_);
     set_step(front_.dphi);
@@ -360,8 +360,8 @@ class TrainTracer {
   // The train's reflected wave, seeded where its rays ended on reflecting walls (ray_ends(), with the
   // incident wave's omega, direction of entry and phase step).
   TrainTracer(const Scene& scene, std::size_t train, const DwtSettings& set, const std::vector<RayEnd>& ends, double omega,
-              double dx, double dy, double dphi, unsigned lanes)
-      : scene_(scene), set_(set), floor_(scene.floor), train_index_(train), train_(scene.trains[train]), lanes_(lanes) {
+              double dx, double dy, double dphi, ThreadPool* pool)
+      : scene_(scene), set_(set), floor_(scene.floor), train_index_(train), train_(scene.trains[train]), pool_(pool) {
     init_medium();
     reflected_ = true;
     front_ = reflected_front(ends, omega, dx, dy, dphi);
@@ -379,14 +379,14 @@ class TrainTracer {
   WaveRays run_reflecting(DwtStats& stats, WaveRays& reflected, DwtStats& reflected_stats) {
     sweep();
     const std::vector<RayEnd> ends = ray_ends();
-    auto trace = [&](unsigned lanes) {
-      TrainTracer r(scene_, train_index_, set_, ends, medium_.omega, front_.dx, front_.dy, front_.dphi, lanes);
+    auto trace = [&](ThreadPool* pool) {
+      TrainTracer r(scene_, train_index_, set_, ends, medium_.omega, front_.dx, front_.dy, front_.dphi, pool);
       reflected = r.run(reflected_stats);
       reflected_stats.reflected_rays = reflected_stats.rays;
     };
-    if (medium_.uniform) return finish(stats, [&] { trace(1); });
+    if (medium_.uniform) return finish(stats, [&] { trace(nullptr); });
     WaveRays out = finish(stats, [] {});
-    trace(lanes_);
+    trace(pool_);
     return out;
   }
 
@@ -413,7 +413,7 @@ class TrainTracer {
   void sweep() {
     if (!(front_.dphi > 0.0)) return;  // the whole front is on land
     main_.samples.reserve(std::min<std::size_t>(set_.max_samples, estimate_samples()));
-    if (lanes_ > 1) side_.samples.reserve(std::min<std::size_t>(set_.max_samples, estimate_samples()) / 2);
+    if (pool_) side_.samples.reserve(std::min<std::size_t>(set_.max_samples, estimate_samples()) / 2);
     rays_.reserve(std::min<std::size_t>(set_.max_rays, 4 * front_.entries.size() + 64));
 
     start_front();
@@ -884,15 +884,11 @@ class TrainTracer {
     // across chunks are measured after.
     begin_tubes();
     const std::size_t n = order_.size();
-    if (lanes_ > 1 && !medium_.uniform && n >= shared_pass_min_rays && main_.stats.samples + n <= set_.max_samples) {
-      if (!helper_) helper_ = std::make_unique<HelperLane>();
-      const std::size_t chunk = std::max(shared_chunk_rays, n / 60000 + 1);  // fewer than 65536 chunks
-      auto task = [&](int lane, std::uint32_t c) {
-        const std::size_t lo = c * chunk;
-        advance_front(lane == 0 ? main_ : side_, j, lo, std::min(n, lo + chunk));
-      };
-      helper_->for_chunks(std::uint32_t((n + chunk - 1) / chunk), task);
-      for (std::size_t i = chunk; i < n; i += chunk) {
+    if (pool_ && !medium_.uniform && n >= shared_pass_min_rays && main_.stats.samples + n <= set_.max_samples) {
+      pool_->for_ranges(n, shared_chunk_rays, [&](std::size_t lo, std::size_t hi, unsigned lane) {
+        advance_front(lane == 0 ? main_ : side_, j, lo, hi);
+      });
+      for (std::size_t i = shared_chunk_rays; i < n; i += shared_chunk_rays) {
         Pose pa{}, pb{};
         if (pose_on_step(rays_[std::size_t(order_[i - 1])], phi_j, pa) && pose_on_step(rays_[std::size_t(order_[i])], phi_j, pb)) {
           main_.widest = std::max(main_.widest, measure_pair(i - 1, pa, pb));
@@ -1490,7 +1486,7 @@ class TrainTracer {
     // lanes, runs of rays of about equal sample counts are taken from both ends (what a ray's
     // output is does not depend on the lane that writes it).
     const Gather g{arrays, flags, coefficient, diffraction};
-    if (lanes_ > 1) {
+    if (pool_) {
       constexpr std::size_t runs = 32;
       std::vector<std::size_t> bound(runs + 1, nr);
       bound[0] = 0;
@@ -1500,12 +1496,10 @@ class TrainTracer {
         bound[c] = std::size_t(past - out.sample_begin.begin());
         bound[c] = std::max(bound[c], bound[c - 1]);
       }
-      if (!helper_) helper_ = std::make_unique<HelperLane>();
-      auto task = [&](int lane, std::uint32_t c) {
+      pool_->for_ranges(runs + 1, 1, [&](std::size_t c, std::size_t, unsigned lane) {
         if (c == runs) also();
         else gather(lane == 0 ? main_ : side_, out, g, bound[c], bound[c + 1]);
-      };
-      helper_->for_chunks(std::uint32_t(runs + 1), task);
+      });
       merge_side_lane();
     } else {
       gather(main_, out, g, 0, nr);
@@ -1648,7 +1642,7 @@ class TrainTracer {
   Bathymetry floor_;
   std::size_t train_index_ = 0;
   const WaveTrain& train_;
-  unsigned lanes_ = 1;
+  ThreadPool* pool_ = nullptr;  // a second lane, side_'s; lane 0 is the caller's, main_
   double h_min_ = 0.0, path_max_ = 0.0;
   Medium medium_{};
   Front front_{};
@@ -1666,8 +1660,7 @@ class TrainTracer {
   std::vector<double> pair_sigma_, pair_width_;
   std::vector<std::uint8_t> pair_real_;
   Lane main_;  // the sweep's own
-  Lane side_;  // the helper's, merged into main_ after each shared pass
-  std::unique_ptr<HelperLane> helper_;  // with two lanes, on a large enough front
+  Lane side_;  // the pool's second lane's, merged into main_ after each shared pass
   std::int64_t first_step_ = 0;
   double k_bound_ = inf;  // K' <= k_bound_ everywhere (finalize)
   double uniform_a_break_ = 0.0;  // breaking_limit() of a uniform floor
@@ -1703,6 +1696,13 @@ Expected<Scene> checked(const Scene& scene, const DwtSettings& settings, std::si
     return Error{"trains", "an index below " + std::to_string(scene.trains.size()) + ", got " + std::to_string(train)};
   }
   return checked(scene, settings);
+}
+
+// A train's second lane: none on one thread, else a pool of two (the tracer shares its passes between
+// two lanes at most).
+Expected<std::unique_ptr<ThreadPool>> train_pool(unsigned threads) {
+  if (threads < 2) return std::unique_ptr<ThreadPool>();
+  return ThreadPool::create(2);
 }
 
 }  // namespace
@@ -1781,7 +1781,9 @@ Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtS
   DwtStats& st = stats ? *stats : local;
   st = DwtStats{};
   if (settings.analytic_shortcut && !train_needs_rays(scene, train)) return detail::analytic_rays(scene, train);
-  detail::TrainTracer tracer(valid.value(), train, valid->dwt, std::clamp(threads, 1u, 2u));
+  auto pool = detail::train_pool(threads);
+  if (!pool) return pool.error();
+  detail::TrainTracer tracer(valid.value(), train, valid->dwt, pool->get());
   return tracer.run(st);
 }
 
@@ -1800,8 +1802,10 @@ Expected<WaveRays> trace_reflection(const Scene& scene, std::size_t train, const
   none.phase_step = incident.phase_step;
   none.min_depth = incident.min_depth;
   if (!valid->dwt.reflection || incident.analytic || !scene_has_reflecting_walls(valid.value())) return none;
+  auto pool = detail::train_pool(threads);
+  if (!pool) return pool.error();
   detail::TrainTracer tracer(valid.value(), train, valid->dwt, detail::ray_ends(incident), incident.omega, incident.direction_x,
-                             incident.direction_y, incident.phase_step, std::clamp(threads, 1u, 2u));
+                             incident.direction_y, incident.phase_step, pool->get());
   WaveRays out = tracer.run(st);
   st.reflected_rays = st.rays;
   return out;
@@ -1819,29 +1823,27 @@ Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& sett
   std::vector<WaveRays> incident(n), reflected(n);
   std::vector<DwtStats> stats(n), reflected_stats(n);
   const std::size_t workers = std::min<std::size_t>(std::max(1u, threads), n);
-  const unsigned lanes = workers > 0 ? std::clamp(threads / unsigned(workers), 1u, 2u) : 1u;
+  const unsigned lanes = workers > 0 ? threads / unsigned(workers) : 1u;
   const bool reflects = s.dwt.reflection && scene_has_reflecting_walls(s);
-  // Each train as trace_train, then trace_reflection, would trace it.
-  auto work = [&](std::size_t first, std::size_t step) {
-    for (std::size_t i = first; i < n; i += step) {
-      if (s.dwt.analytic_shortcut && !train_needs_rays(s, i)) {
-        incident[i] = detail::analytic_rays(s, i);
-        continue;
-      }
-      detail::TrainTracer tracer(s, i, s.dwt, lanes);
-      incident[i] = reflects ? tracer.run_reflecting(stats[i], reflected[i], reflected_stats[i]) : tracer.run(stats[i]);
-    }
-  };
-  if (workers <= 1) {
-    work(0, 1);
-  } else {
-    // Trains are independent and each is traced sequentially: the result does not depend on the
-    // thread count.
-    std::vector<std::thread> pool;
-    for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(work, t, workers);
-    work(0, workers);
-    for (std::thread& t : pool) t.join();
+  // Trains are independent and each is traced as trace_train, then trace_reflection, would trace it,
+  // on a worker and that worker's second lane when there are threads for one: the result does not
+  // depend on the thread count.
+  auto pool = detail::ThreadPool::create(unsigned(workers));
+  if (!pool) return pool.error();
+  std::vector<std::unique_ptr<detail::ThreadPool>> second_lanes(workers);
+  for (auto& lane : second_lanes) {
+    auto p = detail::train_pool(lanes);
+    if (!p) return p.error();
+    lane = std::move(p.value());
   }
+  pool.value()->for_ranges(n, 1, [&](std::size_t i, std::size_t, unsigned worker) {
+    if (s.dwt.analytic_shortcut && !train_needs_rays(s, i)) {
+      incident[i] = detail::analytic_rays(s, i);
+      return;
+    }
+    detail::TrainTracer tracer(s, i, s.dwt, second_lanes[worker].get());
+    incident[i] = reflects ? tracer.run_reflecting(stats[i], reflected[i], reflected_stats[i]) : tracer.run(stats[i]);
+  });
   WaveField field;
   for (std::size_t i = 0; i < n; ++i) {
     field.trains.push_back(std::move(incident[i]));

@@ -492,20 +492,25 @@ TEST(WaveTracing, DeterministicAcrossRunsAndThreadCounts) {
   const auto one = houle::trace_wave_field(coast, 1);
   const auto two = houle::trace_wave_field(coast, 2);
   const auto three = houle::trace_wave_field(coast, 3);
-  ASSERT_TRUE(one.ok() && two.ok() && three.ok());
+  const auto six = houle::trace_wave_field(coast, 6);  // each train on a worker and its second lane
+  ASSERT_TRUE(one.ok() && two.ok() && three.ok() && six.ok());
   ASSERT_EQ(one->trains.size(), 3u);
   for (std::size_t t = 0; t < 3; ++t) {
     expect_identical(one->trains[t], two->trains[t]);
     expect_identical(one->trains[t], three->trains[t]);
+    expect_identical(one->trains[t], six->trains[t]);
     EXPECT_TRUE(all_finite(one->trains[t]));
   }
   EXPECT_EQ(one->stats.samples, three->stats.samples);
+  EXPECT_EQ(one->stats.samples, six->stats.samples);
   // The jetty reflects (alpha > 0): its reflected waves too.
   ASSERT_FALSE(one->reflections.empty());
   ASSERT_EQ(one->reflections.size(), two->reflections.size());
+  ASSERT_EQ(one->reflections.size(), six->reflections.size());
   for (std::size_t i = 0; i < one->reflections.size(); ++i) {
     EXPECT_EQ(one->reflections[i].train, two->reflections[i].train);
     expect_identical(one->reflections[i].rays, two->reflections[i].rays);
+    expect_identical(one->reflections[i].rays, six->reflections[i].rays);
     EXPECT_TRUE(all_finite(one->reflections[i].rays));
   }
   const WaveRays a = trace(houle::paper_fig4()), b = trace(houle::paper_fig4());

@@ -1,7 +1,6 @@
 #include "houle/render/renderer.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -157,9 +156,7 @@ struct Renderer::Impl {
   MarchParams march;
   bool camera_under = false;
   double primary_floor_lo = 0.0;
-  std::atomic<std::uint32_t> next_row{0};
 
-  static void task(void* context, unsigned worker) noexcept;
   void render_row(Scratch& s, std::uint32_t row) noexcept;
   void shade_sample(Scratch& s) noexcept;
   LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
@@ -389,19 +386,6 @@ void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
   s.shade_ns += (Clock::now() - t4).count();
 }
 
-void Renderer::Impl::task(void* context, unsigned worker) noexcept {
-  Impl& r = *static_cast<Impl*>(context);
-  Scratch& s = *r.scratch[worker];
-  std::fill_n(s.a[Scratch::ox], r.width, r.camera.position[0]);
-  std::fill_n(s.a[Scratch::oy], r.width, r.camera.position[1]);
-  std::fill_n(s.a[Scratch::oz], r.width, r.camera.position[2]);
-  for (;;) {
-    const std::uint32_t row = r.next_row.fetch_add(1, std::memory_order_relaxed);
-    if (row >= r.height) break;
-    r.render_row(s, row);
-  }
-}
-
 // ---- Renderer ---------------------------------------------------------------------------------
 
 Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t width, std::uint32_t height,
@@ -490,19 +474,11 @@ std::uint32_t Renderer::height() const noexcept { return impl_->height; }
 unsigned Renderer::threads() const noexcept { return impl_->pool->size(); }
 
 void Renderer::fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept {
-  struct Fill {
-    SurfaceFrame* surface;
-    SurfaceSampler sampler;
-    void* context;
-    unsigned parts;
-  } fill{&surface, sampler, context, std::min(impl_->pool->size(), SurfaceFrame::max_fill_parts)};
+  const unsigned parts = std::min(impl_->pool->size(), SurfaceFrame::max_fill_parts);
   surface.begin_fill();
-  impl_->pool->run(
-      [](void* c, unsigned worker) noexcept {
-        const Fill& f = *static_cast<const Fill*>(c);
-        if (worker < f.parts) f.surface->fill_part(f.sampler, f.context, worker, f.parts);
-      },
-      &fill);
+  impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
+    surface.fill_part(sampler, context, unsigned(part), parts);
+  });
   surface.finish_frame();
 }
 
@@ -535,9 +511,13 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   for (auto& s : r.scratch) {
     s->march_ns = s->intersect_ns = s->shade_ns = 0;
     s->counters = {};
+    std::fill_n(s->a[Scratch::ox], r.width, r.camera.position[0]);
+    std::fill_n(s->a[Scratch::oy], r.width, r.camera.position[1]);
+    std::fill_n(s->a[Scratch::oz], r.width, r.camera.position[2]);
   }
-  r.next_row.store(0, std::memory_order_relaxed);
-  r.pool->run(&Impl::task, &r);
+  r.pool->for_ranges(r.height, 1, [&r](std::size_t row, std::size_t, unsigned lane) noexcept {
+    r.render_row(*r.scratch[lane], std::uint32_t(row));
+  });
 
   double march_ns = 0.0, intersect_ns = 0.0, shade_ns = 0.0;
   for (const auto& s : r.scratch) {

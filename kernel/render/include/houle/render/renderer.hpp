@@ -29,10 +29,11 @@
 // (docs/rendering.md 3.4's refinement) and is shadowed by objects only, not by the waves; sky light on
 // objects is the horizontal sky irradiance weighted by (1 + N_z) / 2.
 //
-// Threads: a persistent pool made by create() (no thread is started per frame); rows are handed out by
-// an atomic counter and every row is computed the same way whatever thread takes it, so the image is
-// identical for any thread count. render() allocates nothing and never fails; no NaN or Inf reaches
-// the framebuffer (non-finite samples are written as 0 and counted in last_counters()).
+// Threads: a persistent pool made by create() (no thread is started per frame); rows are claimed one
+// at a time by whichever thread is free, and every row is computed the same way whatever thread takes
+// it, so the image is identical for any thread count. render() allocates nothing and never fails; no
+// NaN or Inf reaches the framebuffer (non-finite samples are written as 0 and counted in
+// last_counters()).
 #pragma once
 #include <array>
 #include <cstdint>
