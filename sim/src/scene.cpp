@@ -11,6 +11,7 @@
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene_keys.hpp"
+#include "clip_line.hpp"
 
 namespace houle {
 namespace {
@@ -41,23 +42,11 @@ Check check_key_ranges(Scene& s) {
   return first;
 }
 
-// Does segment [a, b] meet the rectangle grown by `margin`? (Liang-Barsky clipping.)
+// Does segment [a, b] meet the rectangle grown by `margin`?
 bool segment_meets_rect(Point2 a, Point2 b, const Domain& d, double margin) noexcept {
-  double t0 = 0.0, t1 = 1.0;
-  const double dx = b.x - a.x, dy = b.y - a.y;
-  const double p[4] = {-dx, dx, -dy, dy};
-  const double q[4] = {a.x - (d.x_min - margin), (d.x_max + margin) - a.x, a.y - (d.y_min - margin),
-                       (d.y_max + margin) - a.y};
-  for (int i = 0; i < 4; ++i) {
-    if (p[i] == 0.0) {
-      if (q[i] < 0.0) return false;
-    } else {
-      const double r = q[i] / p[i];
-      if (p[i] < 0.0) t0 = std::max(t0, r);
-      else t1 = std::min(t1, r);
-    }
-  }
-  return t0 <= t1;
+  const Domain grown{d.x_min - margin, d.y_min - margin, d.x_max + margin, d.y_max + margin};
+  double t0 = 0.0, t1 = 0.0;
+  return detail::clip_line(grown, a.x, a.y, b.x - a.x, b.y - a.y, t0, t1) && t0 <= 1.0 && t1 >= 0.0;
 }
 
 Check check_domain(const Domain& d) {

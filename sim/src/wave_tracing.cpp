@@ -14,6 +14,7 @@
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/wave_rays.hpp"
+#include "clip_line.hpp"
 #include "ray_step.hpp"
 #include "ray_walls.hpp"
 #include "sommerfeld_tabulated.hpp"
@@ -54,24 +55,6 @@ struct Front {
   double k_ref = 0.0;
   std::vector<Entry> entries;  // in order across the front (increasing to the left)
 };
-
-// Parameter range [t0, t1] of the line p + t d inside the rectangle (Liang-Barsky); false if it misses.
-bool clip_line(const Domain& d, double px, double py, double dx, double dy, double& t0, double& t1) noexcept {
-  t0 = -std::numeric_limits<double>::infinity();
-  t1 = std::numeric_limits<double>::infinity();
-  const double p[4] = {-dx, dx, -dy, dy};
-  const double q[4] = {px - d.x_min, d.x_max - px, py - d.y_min, d.y_max - py};
-  for (int i = 0; i < 4; ++i) {
-    if (p[i] == 0.0) {
-      if (q[i] < 0.0) return false;
-    } else {
-      const double r = q[i] / p[i];
-      if (p[i] < 0.0) t0 = std::max(t0, r);
-      else t1 = std::min(t1, r);
-    }
-  }
-  return t0 <= t1;
-}
 
 Medium make_medium(const Scene& scene, const Bathymetry& floor, double omega, double h_min) {
   Medium m;
