@@ -8,7 +8,10 @@
 namespace houle::cli {
 
 Args::Args(std::string command, std::span<char* const> argv)
-    : command_(std::move(command)), args_(argv.begin(), argv.end()), used_(args_.size(), false) {}
+    : Args(std::move(command), std::vector<std::string>(argv.begin(), argv.end())) {}
+
+Args::Args(std::string command, std::vector<std::string> args)
+    : command_(std::move(command)), args_(std::move(args)), used_(args_.size(), false) {}
 
 void Args::fail(std::string message) {
   if (!error_) error_ = CliError{command_ + ": " + std::move(message)};
@@ -59,6 +62,14 @@ std::vector<std::string> Args::rest() {
     } else {
       out.push_back(args_[i]);
     }
+  }
+  return out;
+}
+
+std::vector<std::string> Args::unused() const {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < args_.size(); ++i) {
+    if (!used_[i]) out.push_back(args_[i]);
   }
   return out;
 }

@@ -22,6 +22,7 @@ struct CliError {
 class Args {
  public:
   Args(std::string command, std::span<char* const> argv);
+  Args(std::string command, std::vector<std::string> args);
 
   /// True (and consumed) if the flag is present.
   bool flag(std::string_view name);
@@ -31,6 +32,8 @@ class Args {
   std::vector<std::string> values(std::string_view name);
   /// Positionals left after all options were taken; an unknown option is an error.
   std::vector<std::string> rest();
+  /// Every argument not taken yet, options and positionals, in the order given.
+  std::vector<std::string> unused() const;
 
   const std::string& command() const { return command_; }
   bool failed() const { return error_.has_value(); }

@@ -10,5 +10,6 @@ int cmd_info(std::span<char* const> args);
 int cmd_render(std::span<char* const> args);
 int cmd_probe(std::span<char* const> args);
 int cmd_bench(std::span<char* const> args);
+int cmd_farm(std::span<char* const> args);
 
 }  // namespace houle::cli

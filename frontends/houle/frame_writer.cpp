@@ -6,6 +6,9 @@
 #include <filesystem>
 #include <fcntl.h>
 #include <unistd.h>
+#include <utility>
+
+#include "frame_files.hpp"
 
 #if HOULE_WITH_OIIO
 #include "image_module.hpp"
@@ -51,7 +54,7 @@ class ImageWriter final : public FrameWriter {
 
   WriteStatus write(const Framebuffer& fb, const ToneMap& tm, long index) override {
     const std::string name = format_frame_name(pattern_, index).value();
-    const std::string tmp = name + ".tmp" + std::to_string(::getpid());
+    const std::string tmp = temp_path(name);
     if (!linear_) encode_frame(fb, tm, PixelFormat::rgb24, std::as_writable_bytes(std::span(pixels_)));
     const void* data = linear_ ? static_cast<const void*>(fb.rgb.data()) : pixels_.data();
     char message[512] = "";
@@ -78,10 +81,23 @@ class ImageWriter final : public FrameWriter {
 
 class RawWriter final : public FrameWriter {
  public:
-  RawWriter(std::string path, int fd, PixelFormat f, std::size_t frame_bytes)
-      : path_(std::move(path)), fd_(fd), format_(f), bytes_(frame_bytes) {}
+  // `tmp`: where the frames go until finish() renames it to `path` (empty: straight to `path`).
+  RawWriter(std::string path, std::string tmp, int fd, PixelFormat f, std::size_t frame_bytes)
+      : path_(std::move(path)), tmp_(std::move(tmp)), fd_(fd), format_(f), bytes_(frame_bytes) {}
   ~RawWriter() override {
     if (fd_ > 1) ::close(fd_);
+    if (!tmp_.empty()) ::unlink(tmp_.c_str());
+  }
+
+  WriteStatus finish() override {
+    if (tmp_.empty()) return WriteStatus::ok;
+    const int fd = std::exchange(fd_, -1);
+    if (::close(fd) != 0 || ::rename(tmp_.c_str(), path_.c_str()) != 0) {
+      error_ = path_ + ": cannot write: " + std::strerror(errno);
+      return WriteStatus::failed;
+    }
+    tmp_.clear();
+    return WriteStatus::ok;
   }
 
   WriteStatus write(const Framebuffer& fb, const ToneMap& tm, long) override {
@@ -104,7 +120,7 @@ class RawWriter final : public FrameWriter {
   }
 
  private:
-  std::string path_;
+  std::string path_, tmp_;
   int fd_;
   PixelFormat format_;
   std::vector<std::byte> bytes_;
@@ -136,16 +152,17 @@ Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& patt
 }
 
 Expected<std::unique_ptr<FrameWriter>> make_raw_writer(const std::string& path, PixelFormat format, int width,
-                                                       int height) {
+                                                       int height, bool whole) {
   // A reader that goes away must show up as EPIPE from write(), not as a fatal signal.
   std::signal(SIGPIPE, SIG_IGN);
   int fd = 1;
+  const std::string tmp = whole && path != "-" ? temp_path(path) : std::string();
   if (path != "-") {
-    fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    fd = ::open((tmp.empty() ? path : tmp).c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0) return Error{path, std::string("cannot open for writing: ") + std::strerror(errno)};
   }
   const std::size_t bytes = bytes_per_pixel(format) * std::size_t(width) * std::size_t(height);
-  return std::unique_ptr<FrameWriter>(new RawWriter(path, fd, format, bytes));
+  return std::unique_ptr<FrameWriter>(new RawWriter(path, tmp, fd, format, bytes));
 }
 
 }  // namespace houle::cli

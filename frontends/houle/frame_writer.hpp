@@ -19,6 +19,8 @@ class FrameWriter {
   virtual ~FrameWriter() = default;
   /// Writes frame number `index`; on `failed`, error() says why.
   virtual WriteStatus write(const Framebuffer& fb, const ToneMap& tm, long index) = 0;
+  /// After the last frame: a file written under a temporary name gets its final name.
+  virtual WriteStatus finish() { return WriteStatus::ok; }
   const std::string& error() const { return error_; }
 
  protected:
@@ -30,9 +32,11 @@ class FrameWriter {
 /// a temporary name and renamed, so no partial image ever has the final name.
 Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& pattern, int width, int height);
 
-/// Tightly packed frames of `format` to `path`, or to standard output for "-".
+/// Tightly packed frames of `format` to `path`, or to standard output for "-". When `whole`, the
+/// frames go to a temporary file that finish() renames to `path` (a writer destroyed before that
+/// removes it): `path` exists only with every frame in it.
 Expected<std::unique_ptr<FrameWriter>> make_raw_writer(const std::string& path, PixelFormat format, int width,
-                                                       int height);
+                                                       int height, bool whole = false);
 
 /// "frames/%04d.png" with 7 -> "frames/0007.png"; an error if the pattern has not exactly one
 /// integer conversion (and no other conversions).

@@ -20,6 +20,7 @@ commands:
   bench [SCENE]         frame-time median, p90, p99, max and per-stage times over N frames
   validate SCENE        check a scene file; errors give file:line:column and what was expected
   info [SCENE]          describe a scene (the built-in coast without SCENE)
+  farm slurm|status     a frame range as a Slurm array job (or processes here), and its final check
 
 options:
   --help                this text; `houle <command> --help` for a command's options
@@ -59,6 +60,7 @@ int main(int argc, char** argv) {
   if (cmd == "render") return houle::cli::cmd_render(rest);
   if (cmd == "probe") return houle::cli::cmd_probe(rest);
   if (cmd == "bench") return houle::cli::cmd_bench(rest);
+  if (cmd == "farm") return houle::cli::cmd_farm(rest);
   std::fprintf(stderr, "houle: unknown command '%.*s' (see houle --help)\n", int(cmd.size()), cmd.data());
   return 2;
 }

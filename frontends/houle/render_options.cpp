@@ -1,0 +1,63 @@
+#include "render_options.hpp"
+
+namespace houle::cli {
+namespace {
+
+// Frame numbers go into %d file names (int); a run is at most max_frames long.
+constexpr long long max_frames = 10'000'000, max_frame_number = 2147483647;
+
+}  // namespace
+
+std::optional<std::pair<long, long>> parse_frames(std::string_view text) {
+  const auto colon = text.find(':');
+  if (colon == std::string_view::npos) {
+    const auto n = parse_int(text);
+    if (!n || *n < 1 || *n > max_frames) return std::nullopt;
+    return std::pair<long, long>{0, long(*n) - 1};
+  }
+  const auto a = parse_int(text.substr(0, colon)), b = parse_int(text.substr(colon + 1));
+  if (!a || !b || *a < 0 || *b < *a || *b > max_frame_number || *b - *a >= max_frames) return std::nullopt;
+  return std::pair<long, long>{long(*a), long(*b)};
+}
+
+RenderOptions take_render_options(Args& args) {
+  RenderOptions o;
+  if (auto v = args.value("--frames")) {
+    const auto f = parse_frames(*v);
+    if (!f) args.fail(std::string("--frames expects ") + frames_expected + ", got '" + *v + "'");
+    else o.first = f->first, o.last = f->second;
+  }
+  if (auto v = args.value("--fps")) {
+    const auto f = parse_double(*v);
+    if (!f || *f <= 0.0 || *f > 1000.0) args.fail("--fps expects a number in (0, 1000], got '" + *v + "'");
+    else o.fps = *f;
+  }
+  if (auto v = args.value("--size")) {
+    const auto s = parse_size(*v);
+    if (!s) args.fail(std::string("--size expects ") + size_expected + ", got '" + *v + "'");
+    else o.width = s->first, o.height = s->second;
+  }
+  take_quality(args, o.quality);
+  take_threads(args, o.threads);
+  if (auto v = args.value("--out")) o.out = *v, o.default_out = false;
+  o.raw = args.value("--raw");
+  if (auto v = args.value("--pixel-format")) {
+    const auto f = parse_pixel_format(*v);
+    if (!f) args.fail("--pixel-format expects rgb24, rgba8, bgra8 or rgbf32, got '" + *v + "'");
+    else o.format = *f;
+  }
+  if (auto v = args.value("--exposure")) {
+    const auto e = parse_double(*v);
+    if (!e || *e <= 0.0) args.fail("--exposure expects a number > 0, got '" + *v + "'");
+    else o.exposure = float(*e);
+  }
+  o.skip_existing = args.flag("--skip-existing");
+  o.realtime = args.flag("--realtime");
+  o.quiet = args.flag("--quiet");
+  o.verbose = args.flag("--verbose");
+  if (o.raw && !o.default_out) args.fail("--out and --raw exclude each other");
+  if (o.raw && *o.raw == "-" && o.skip_existing) args.fail("--skip-existing needs a file: it cannot skip frames of standard output");
+  return o;
+}
+
+}  // namespace houle::cli
