@@ -27,14 +27,12 @@ options:
   --version             version and the SIMD instruction set in use
 
 environment:
-  HOULE_ISA             force a kernel path: scalar, sse4.2, avx2, avx512, neon64, neon
-)";
+  HOULE_ISA             force a kernel path: )";  // the names follow, from houle::isa_names
 
 int version() {
   std::printf("houle %s (ISA %.*s; compiled:", HOULE_VERSION, int(houle::isa_name(houle::active_isa()).size()),
               houle::isa_name(houle::active_isa()).data());
-  for (int i = 0; i < 6; ++i) {
-    const auto isa = static_cast<houle::Isa>(i);
+  for (const houle::Isa isa : houle::all_isas) {
     if (houle::isa_compiled(isa)) std::printf(" %.*s", int(houle::isa_name(isa).size()), houle::isa_name(isa).data());
   }
   std::printf(")\n");
@@ -51,7 +49,7 @@ int main(int argc, char** argv) {
   const std::string_view cmd = argc > 1 ? argv[1] : "--help";
   const std::span<char* const> rest(argv + std::min(argc, 2), argv + argc);
   if (cmd == "--help" || cmd == "-h" || cmd == "help") {
-    std::fputs(usage, stdout);
+    std::printf("%s%.*s\n", usage, int(houle::isa_names.size()), houle::isa_names.data());
     return 0;
   }
   if (cmd == "--version") return version();

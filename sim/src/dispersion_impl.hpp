@@ -1,8 +1,8 @@
 // Batched float dispersion solver, written once for every width (included by sim_isa.cpp).
 #pragma once
-#include <algorithm>
 #include <cstddef>
 
+#include "houle/simd/batch_loop.hpp"
 #include "houle/simd/simd.hpp"
 
 namespace houle::detail {
@@ -50,16 +50,9 @@ inline simd::vfloat<A> dispersion_k_point(simd::vfloat<A> depth, float k0) {
 
 template <class A>
 void dispersion_k_batch(float k0, const float* depth, std::size_t n, float* k) noexcept {
-  constexpr std::size_t W = simd::width<A>;
-  std::size_t i = 0;
-  for (; i + W <= n; i += W) simd::store<A>(k + i, dispersion_k_point<A>(simd::load<A>(depth + i), k0));
-  if (i < n) {
-    // The tail goes through the same full-width code on a padded copy, so every lane is computed alike.
-    alignas(64) float t[W] = {};
-    std::copy(depth + i, depth + n, t);
-    simd::store<A>(t, dispersion_k_point<A>(simd::load<A>(t), k0));
-    std::copy(t, t + (n - i), k + i);
-  }
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    b.store(k, dispersion_k_point<A>(b.load(depth), k0));
+  });
 }
 
 }  // namespace houle::detail

@@ -173,8 +173,7 @@ TEST(Gerstner, RejectsInvalidTrains) {
 }
 
 TEST(Isa, NamesRoundTripAndScalarIsAlwaysSupported) {
-  for (int i = 0; i < 6; ++i) {
-    const auto isa = static_cast<houle::Isa>(i);
+  for (const houle::Isa isa : houle::all_isas) {
     EXPECT_EQ(houle::parse_isa(houle::isa_name(isa)), isa);
   }
   EXPECT_FALSE(houle::parse_isa("avx3").has_value());

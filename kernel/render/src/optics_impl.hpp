@@ -3,10 +3,10 @@
 // Only +, -, *, simd::div, simd::sqrt, min, max and select: correctly rounded everywhere but ARMv7
 // NEON, so every SIMD path gives the scalar path's bits (tests/kernel/test_optics.cpp).
 #pragma once
-#include <algorithm>
 #include <cstddef>
 
 #include "houle/render/optics.hpp"
+#include "houle/simd/batch_loop.hpp"
 #include "houle/simd/simd.hpp"
 
 namespace houle::detail {
@@ -88,63 +88,31 @@ inline InterfaceRays<A> interface_rays(simd::vfloat<A> ix, simd::vfloat<A> iy, s
   return out;
 }
 
-// Batch loops over any n: full packets, then the tail through the same full-width code on a padded
-// copy (so every lane is computed alike). Padding lanes get a harmless input.
+// Batch loops over any n (simd::for_batches). Padding lanes of the tail get a harmless input.
 
 template <class A>
 void fresnel_batch(const float* cos_i, float eta, float* reflectance, std::size_t n) noexcept {
-  constexpr std::size_t W = simd::width<A>;
   const simd::vfloat<A> e = simd::splat<A>(eta);
-  std::size_t i = 0;
-  for (; i + W <= n; i += W) {
-    simd::store<A>(reflectance + i, fresnel_terms<A>(simd::load<A>(cos_i + i), e).reflectance);
-  }
-  if (i < n) {
-    alignas(64) float c[W] = {}, r[W];
-    std::copy(cos_i + i, cos_i + n, c);
-    simd::store<A>(r, fresnel_terms<A>(simd::load<A>(c), e).reflectance);
-    std::copy(r, r + (n - i), reflectance + i);
-  }
-}
-
-template <class A>
-inline void interface_rays_store(const InterfaceRays<A>& r, float* const* out, std::size_t i) {
-  simd::store<A>(out[0] + i, r.rx);
-  simd::store<A>(out[1] + i, r.ry);
-  simd::store<A>(out[2] + i, r.rz);
-  simd::store<A>(out[3] + i, r.tx);
-  simd::store<A>(out[4] + i, r.ty);
-  simd::store<A>(out[5] + i, r.tz);
-  simd::store<A>(out[6] + i, r.reflectance);
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    b.store(reflectance, fresnel_terms<A>(b.load(cos_i), e).reflectance);
+  });
 }
 
 template <class A>
 void reflect_refract_batch(const ReflectRefractInput& in, std::size_t n, float n_outside, float n_inside,
                            ReflectRefractOutput out) noexcept {
-  constexpr std::size_t W = simd::width<A>;
-  const float* src[6] = {in.ix, in.iy, in.iz, in.nx, in.ny, in.nz};
-  float* const dst[7] = {out.rx, out.ry, out.rz, out.tx, out.ty, out.tz, out.reflectance};
-  std::size_t i = 0;
-  for (; i + W <= n; i += W) {
-    interface_rays_store<A>(interface_rays<A>(simd::load<A>(src[0] + i), simd::load<A>(src[1] + i),
-                                              simd::load<A>(src[2] + i), simd::load<A>(src[3] + i),
-                                              simd::load<A>(src[4] + i), simd::load<A>(src[5] + i),
-                                              n_outside, n_inside),
-                            dst, i);
-  }
-  if (i < n) {
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
     // Padding lanes: straight down onto an upward normal.
-    alignas(64) float t[6][W] = {};
-    alignas(64) float r[7][W];
-    for (std::size_t j = 0; j < W; ++j) t[2][j] = -1.0f, t[5][j] = 1.0f;
-    for (int k = 0; k < 6; ++k) std::copy(src[k] + i, src[k] + n, t[k]);
-    float* const tmp[7] = {r[0], r[1], r[2], r[3], r[4], r[5], r[6]};
-    interface_rays_store<A>(interface_rays<A>(simd::load<A>(t[0]), simd::load<A>(t[1]), simd::load<A>(t[2]),
-                                              simd::load<A>(t[3]), simd::load<A>(t[4]), simd::load<A>(t[5]),
-                                              n_outside, n_inside),
-                            tmp, 0);
-    for (int k = 0; k < 7; ++k) std::copy(r[k], r[k] + (n - i), dst[k] + i);
-  }
+    const InterfaceRays<A> r = interface_rays<A>(b.load(in.ix), b.load(in.iy), b.load(in.iz, -1.0f), b.load(in.nx),
+                                                 b.load(in.ny), b.load(in.nz, 1.0f), n_outside, n_inside);
+    b.store(out.rx, r.rx);
+    b.store(out.ry, r.ry);
+    b.store(out.rz, r.rz);
+    b.store(out.tx, r.tx);
+    b.store(out.ty, r.ty);
+    b.store(out.tz, r.tz);
+    b.store(out.reflectance, r.reflectance);
+  });
 }
 
 }  // namespace houle::detail

@@ -12,10 +12,31 @@
 namespace houle {
 namespace {
 
-constexpr std::array<std::string_view, 6> names = {"scalar", "sse4.2", "avx2", "avx512", "neon64", "neon"};
-constexpr std::array<std::size_t, 6> widths = {1, 4, 8, 16, 4, 4};
-// Best first.
-constexpr std::array<Isa, 6> preference = {Isa::avx512, Isa::avx2, Isa::sse4_2, Isa::neon64, Isa::neon, Isa::scalar};
+// Bit `id` is set for each ISA compiled into this build (cmake/HouleIsa.cmake).
+#ifndef HOULE_COMPILED_ISA_MASK
+#error "HOULE_COMPILED_ISA_MASK is set by cmake/HouleIsa.cmake (target houle_compiled_isas)"
+#endif
+
+struct IsaRow {
+  Isa isa;
+  std::string_view name;
+  std::size_t width;
+};
+constexpr IsaRow rows[] = {
+#define HOULE_ISA(enum_name, id, name, width, family, flags) {Isa::enum_name, name, width},
+#include "houle/runtime/isa_list.inc"
+#undef HOULE_ISA
+};
+constexpr std::size_t isa_count = std::size(rows);
+
+constexpr bool ids_are_row_indices() {
+  for (std::size_t i = 0; i < isa_count; ++i) {
+    if (static_cast<std::size_t>(rows[i].isa) != i) return false;
+  }
+  return true;
+}
+static_assert(ids_are_row_indices(), "isa_list.inc: the ids must be 0, 1, 2, ... in row order");
+static_assert(isa_count <= 32, "HOULE_COMPILED_ISA_MASK has 32 bits");
 
 bool cpu_has(Isa isa) noexcept {
   switch (isa) {
@@ -40,7 +61,7 @@ bool cpu_has(Isa isa) noexcept {
 }
 
 struct Choice {
-  std::array<Isa, 6> supported{};
+  std::array<Isa, isa_count> supported{};
   std::size_t supported_count = 0;
   Isa active = Isa::scalar;
   std::string override_error;
@@ -49,14 +70,16 @@ struct Choice {
 const Choice& choice() noexcept {
   static const Choice c = [] {
     Choice r;
-    for (Isa isa : preference) {
-      if (isa_supported(isa)) r.supported[r.supported_count++] = isa;
+    // Best first: the rows run from least to most preferred (isa_list.inc), and no CPU supports two
+    // processor families.
+    for (std::size_t i = isa_count; i-- > 0;) {
+      if (isa_supported(rows[i].isa)) r.supported[r.supported_count++] = rows[i].isa;
     }
     r.active = r.supported[0];
     if (const char* env = std::getenv("HOULE_ISA"); env != nullptr && *env != '\0') {
       const std::optional<Isa> wanted = parse_isa(env);
       if (!wanted) {
-        r.override_error = std::string("HOULE_ISA=") + env + " is not one of scalar, sse4.2, avx2, avx512, neon64, neon";
+        r.override_error = std::string("HOULE_ISA=") + env + " is not one of " + std::string(isa_names);
       } else if (!isa_supported(*wanted)) {
         r.override_error = std::string("HOULE_ISA=") + env + " is not " +
                            (isa_compiled(*wanted) ? "supported by this CPU" : "compiled into this build");
@@ -71,38 +94,18 @@ const Choice& choice() noexcept {
 
 }  // namespace
 
-std::string_view isa_name(Isa isa) noexcept { return names[static_cast<std::size_t>(isa)]; }
+std::string_view isa_name(Isa isa) noexcept { return rows[static_cast<std::size_t>(isa)].name; }
 
 std::optional<Isa> parse_isa(std::string_view name) noexcept {
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    if (names[i] == name) return static_cast<Isa>(i);
+  for (const IsaRow& row : rows) {
+    if (row.name == name) return row.isa;
   }
   return std::nullopt;
 }
 
-std::size_t isa_width(Isa isa) noexcept { return widths[static_cast<std::size_t>(isa)]; }
+std::size_t isa_width(Isa isa) noexcept { return rows[static_cast<std::size_t>(isa)].width; }
 
-bool isa_compiled(Isa isa) noexcept {
-  switch (isa) {
-    case Isa::scalar: return true;
-#if HOULE_HAVE_ISA_1
-    case Isa::sse4_2: return true;
-#endif
-#if HOULE_HAVE_ISA_2
-    case Isa::avx2: return true;
-#endif
-#if HOULE_HAVE_ISA_3
-    case Isa::avx512: return true;
-#endif
-#if HOULE_HAVE_ISA_4
-    case Isa::neon64: return true;
-#endif
-#if HOULE_HAVE_ISA_5
-    case Isa::neon: return true;
-#endif
-    default: return false;
-  }
-}
+bool isa_compiled(Isa isa) noexcept { return ((HOULE_COMPILED_ISA_MASK >> static_cast<unsigned>(isa)) & 1u) != 0; }
 
 bool isa_supported(Isa isa) noexcept { return isa_compiled(isa) && cpu_has(isa); }
 

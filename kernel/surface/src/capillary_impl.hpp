@@ -7,12 +7,12 @@
 // has 259 rows (row p holds lattice row p - 1 mod 256), so the 4 rows of a sample are base + 0..3
 // rows without wrapping each one. Only +, -, * and exact conversions: every ISA gives the scalar bits.
 #pragma once
-#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
 #include "houle/surface/capillary.hpp"
+#include "houle/simd/batch_loop.hpp"
 #include "houle/simd/gather.hpp"
 #include "houle/simd/simd.hpp"
 
@@ -166,36 +166,16 @@ inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, simd::vfloat<A
 template <class A, bool Grad>
 void capillary_eval_points(const CapillaryFrame& f, const float* x, const float* y, const float* level, std::size_t n,
                            float* h, float* gx, float* gy) {
-  constexpr std::size_t W = simd::width<A>;
   const std::int32_t* lattice = capillary_lattice().words;
-  std::size_t i = 0;
-  for (; i + W <= n; i += W) {
-    const CapillaryPoint<A> p =
-        capillary_point<A, Grad>(f, lattice, simd::load<A>(x + i), simd::load<A>(y + i), simd::load<A>(level + i));
-    simd::store<A>(h + i, p.height);
+  // Padding lanes of the tail have level 0, so they add no octave and no cost.
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    const CapillaryPoint<A> p = capillary_point<A, Grad>(f, lattice, b.load(x), b.load(y), b.load(level));
+    b.store(h, p.height);
     if constexpr (Grad) {
-      simd::store<A>(gx + i, p.grad_x);
-      simd::store<A>(gy + i, p.grad_y);
+      b.store(gx, p.grad_x);
+      b.store(gy, p.grad_y);
     }
-  }
-  if (i < n) {
-    // The tail goes through the same full-width code on a padded copy; padding lanes have level 0,
-    // so they add no octave and no cost.
-    alignas(64) float tx[W] = {}, ty[W] = {}, tl[W] = {}, th[W], tgx[W], tgy[W];
-    std::copy(x + i, x + n, tx);
-    std::copy(y + i, y + n, ty);
-    std::copy(level + i, level + n, tl);
-    const CapillaryPoint<A> p =
-        capillary_point<A, Grad>(f, lattice, simd::load<A>(tx), simd::load<A>(ty), simd::load<A>(tl));
-    simd::store<A>(th, p.height);
-    std::copy(th, th + (n - i), h + i);
-    if constexpr (Grad) {
-      simd::store<A>(tgx, p.grad_x);
-      simd::store<A>(tgy, p.grad_y);
-      std::copy(tgx, tgx + (n - i), gx + i);
-      std::copy(tgy, tgy + (n - i), gy + i);
-    }
-  }
+  });
 }
 
 /// Without gradient outputs (both null) the derivative work is skipped: about a third of the cost,

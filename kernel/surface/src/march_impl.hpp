@@ -6,14 +6,12 @@
 // comparisons, selects, exact float<->int conversions and loads are used (min/max are written as
 // selects so that signed zeros and NaN behave as in the scalar path), so every ISA gives the scalar bits.
 #pragma once
-#include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
-#include <type_traits>
 
 #include "capillary_impl.hpp"
 #include "houle/surface/march.hpp"
+#include "houle/simd/batch_loop.hpp"
 #include "houle/simd/gather.hpp"
 #include "houle/simd/simd.hpp"
 #include "march_context.hpp"
@@ -32,18 +30,8 @@ using MarchIndex = simd::vint<A>;
 template <class A>
 HOULE_MARCH_INLINE simd::vfloat<A> march_pow2(simd::vfloat<A> l) {
   const MarchIndex<A> i = simd::to_int_exact(l);
-#if HOULE_SIMD_BATCHES
-  if constexpr (!std::is_same_v<A, simd::scalar>) {
-    // A multiply, not a shift: gcc 12 warns inside the AVX-512 shift intrinsic (_mm512_undefined_epi32).
-    return xsimd::bitwise_cast<simd::vfloat<A>>((i + MarchIndex<A>(127)) * MarchIndex<A>(1 << 23));
-  } else
-#endif
-  {
-    const std::uint32_t bits = static_cast<std::uint32_t>(i + 127) << 23;
-    float v;
-    std::memcpy(&v, &bits, sizeof v);
-    return v;
-  }
+  // A multiply, not a shift: gcc 12 warns inside the AVX-512 shift intrinsic (_mm512_undefined_epi32).
+  return simd::bitcast_to_float((i + MarchIndex<A>(127)) * MarchIndex<A>(1 << 23));
 }
 
 template <class A>
@@ -62,22 +50,9 @@ HOULE_MARCH_INLINE simd::vfloat<A> march_log2(simd::vfloat<A> x) {
   using V = simd::vfloat<A>;
   x = simd::select(x > 1e-30f, x, V(1e-30f));  // NaN too
   x = simd::select(x < 1e30f, x, V(1e30f));
-  V e, m;
-#if HOULE_SIMD_BATCHES
-  if constexpr (!std::is_same_v<A, simd::scalar>) {
-    using I = xsimd::batch<std::int32_t, A>;
-    const I bits = xsimd::bitwise_cast<I>(x);
-    e = xsimd::batch_cast<float>((bits >> 23) - I(127));
-    m = xsimd::bitwise_cast<V>((bits & I(0x007fffff)) | I(0x3f800000));
-  } else
-#endif
-  {
-    std::uint32_t bits;
-    std::memcpy(&bits, &x, sizeof bits);
-    e = static_cast<float>(static_cast<std::int32_t>(bits >> 23) - 127);
-    const std::uint32_t mb = (bits & 0x007fffffu) | 0x3f800000u;
-    std::memcpy(&m, &mb, sizeof m);
-  }
+  const MarchIndex<A> bits = simd::bitcast_to_int(x);  // x > 0: the sign bit is clear
+  const V e = simd::to_float_exact((bits >> 23) - MarchIndex<A>(127));
+  const V m = simd::bitcast_to_float((bits & MarchIndex<A>(0x007fffff)) | MarchIndex<A>(0x3f800000));
   const V s = simd::div(m - 1.0f, m + 1.0f);
   const V s2 = s * s;
   // 2/ln 2 times 1, 1/3, 1/5, 1/7, 1/9, 1/11.
@@ -469,48 +444,29 @@ inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, si
   return out;
 }
 
-/// n rays in packets of the ISA's width; the tail goes through the same code on a padded copy.
+/// n rays in packets of the ISA's width (simd::for_batches). Padding lanes of the tail: a ray going
+/// up from above the slab, done before the first sample.
 template <class A>
 void march_rays(const MarchContext& c, const MarchRays& rays, std::size_t n, const MarchHits& hits) noexcept {
-  using V = simd::vfloat<A>;
-  constexpr std::size_t W = simd::width<A>;
-  alignas(64) float in[7][W];
-  alignas(64) float res[9][W];
-  for (std::size_t i = 0; i < n; i += W) {
-    const std::size_t lanes = std::min(W, n - i);
-    const float* src[7] = {rays.ox + i, rays.oy + i, rays.oz + i, rays.dx + i, rays.dy + i, rays.dz + i,
-                           rays.t_max != nullptr ? rays.t_max + i : nullptr};
-    for (std::size_t l = 0; l < lanes; ++l) {
-      for (int k = 0; k < 6; ++k) in[k][l] = src[k][l];
-      in[6][l] = src[6] != nullptr ? src[6][l] : c.max_distance;
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    const simd::vfloat<A> t_max = rays.t_max != nullptr ? b.load(rays.t_max) : simd::vfloat<A>(c.max_distance);
+    const MarchResult<A> m = march_packet<A>(c, b.load(rays.ox, c.centre_x), b.load(rays.oy, c.centre_y),
+                                             b.load(rays.oz, c.z_hi + 1.0f), b.load(rays.dx), b.load(rays.dy),
+                                             b.load(rays.dz, 1.0f), t_max);
+    if (hits.t != nullptr) b.store(hits.t, m.t);
+    if (hits.x != nullptr) b.store(hits.x, m.x);
+    if (hits.y != nullptr) b.store(hits.y, m.y);
+    if (hits.z != nullptr) b.store(hits.z, m.z);
+    if (hits.grad_x != nullptr) b.store(hits.grad_x, m.grad_x);
+    if (hits.grad_y != nullptr) b.store(hits.grad_y, m.grad_y);
+    if (hits.noise_level != nullptr) b.store(hits.noise_level, m.level);
+    if (hits.status != nullptr) {
+      b.store(hits.status, m.status, [](float s) { return static_cast<MarchStatus>(static_cast<std::uint8_t>(s)); });
     }
-    // Padding lanes: a ray going up from above the slab, done before the first sample.
-    for (std::size_t l = lanes; l < W; ++l) {
-      in[0][l] = c.centre_x;
-      in[1][l] = c.centre_y;
-      in[2][l] = c.z_hi + 1.0f;
-      in[3][l] = 0.0f;
-      in[4][l] = 0.0f;
-      in[5][l] = 1.0f;
-      in[6][l] = 0.0f;
+    if (hits.evaluations != nullptr) {
+      b.store(hits.evaluations, m.evaluations, [](float e) { return static_cast<std::uint32_t>(e); });
     }
-    const MarchResult<A> m = march_packet<A>(c, simd::load<A>(in[0]), simd::load<A>(in[1]), simd::load<A>(in[2]),
-                                             simd::load<A>(in[3]), simd::load<A>(in[4]), simd::load<A>(in[5]),
-                                             simd::load<A>(in[6]));
-    const V* fields[9] = {&m.t, &m.x, &m.y, &m.z, &m.grad_x, &m.grad_y, &m.level, &m.status, &m.evaluations};
-    for (int k = 0; k < 9; ++k) simd::store<A>(res[k], *fields[k]);
-    for (std::size_t l = 0; l < lanes; ++l) {
-      if (hits.t != nullptr) hits.t[i + l] = res[0][l];
-      if (hits.x != nullptr) hits.x[i + l] = res[1][l];
-      if (hits.y != nullptr) hits.y[i + l] = res[2][l];
-      if (hits.z != nullptr) hits.z[i + l] = res[3][l];
-      if (hits.grad_x != nullptr) hits.grad_x[i + l] = res[4][l];
-      if (hits.grad_y != nullptr) hits.grad_y[i + l] = res[5][l];
-      if (hits.noise_level != nullptr) hits.noise_level[i + l] = res[6][l];
-      if (hits.status != nullptr) hits.status[i + l] = static_cast<MarchStatus>(static_cast<std::uint8_t>(res[7][l]));
-      if (hits.evaluations != nullptr) hits.evaluations[i + l] = static_cast<std::uint32_t>(res[8][l]);
-    }
-  }
+  });
 }
 
 }  // namespace houle::detail

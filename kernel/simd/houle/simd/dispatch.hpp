@@ -2,10 +2,22 @@
 // `make_table<A>()` in a source compiled once per ISA (cmake: houle_add_isa_library), and looks the
 // table up once; calls then go through a plain pointer, never through a new dispatch.
 #pragma once
+#include <cstdint>
+
 #include "houle/runtime/isa.hpp"
 #include "houle/simd/simd.hpp"
 
+// Bit `id` is set for each ISA compiled into this build (cmake/HouleIsa.cmake).
+#ifndef HOULE_COMPILED_ISA_MASK
+#error "HOULE_COMPILED_ISA_MASK is set by cmake/HouleIsa.cmake (target houle_compiled_isas)"
+#endif
+
 namespace houle::simd {
+
+/// houle::isa_compiled as a constant, for the dispatch below.
+inline constexpr bool compiled_in(Isa isa) {
+  return ((std::uint32_t{HOULE_COMPILED_ISA_MASK} >> static_cast<unsigned>(isa)) & 1u) != 0;
+}
 
 /// Defined (specialised) in the object compiled for ISA I.
 template <class Table, Isa I>
@@ -14,23 +26,15 @@ const Table& isa_table() noexcept;
 template <class Table>
 const Table& table_for(Isa isa) noexcept {
   switch (isa) {
-#if HOULE_HAVE_ISA_1
-    case Isa::sse4_2: return isa_table<Table, Isa::sse4_2>();
-#endif
-#if HOULE_HAVE_ISA_2
-    case Isa::avx2: return isa_table<Table, Isa::avx2>();
-#endif
-#if HOULE_HAVE_ISA_3
-    case Isa::avx512: return isa_table<Table, Isa::avx512>();
-#endif
-#if HOULE_HAVE_ISA_4
-    case Isa::neon64: return isa_table<Table, Isa::neon64>();
-#endif
-#if HOULE_HAVE_ISA_5
-    case Isa::neon: return isa_table<Table, Isa::neon>();
-#endif
-    default: return isa_table<Table, Isa::scalar>();
+    // The tables of ISAs not compiled into this build are never named: they are not defined.
+#define HOULE_ISA(enum_name, id, name, width, family, flags)                           \
+  case Isa::enum_name:                                                                   \
+    if constexpr (compiled_in(Isa::enum_name)) return isa_table<Table, Isa::enum_name>(); \
+    break;
+#include "houle/runtime/isa_list.inc"
+#undef HOULE_ISA
   }
+  return isa_table<Table, Isa::scalar>();
 }
 
 /// The table for active_isa(), looked up on first use.
@@ -39,6 +43,43 @@ const Table& active_table() noexcept {
   static const Table& table = table_for<Table>(active_isa());
   return table;
 }
+
+/// The architecture tag of each ISA's kernels: here, not in isa_list.inc, as the runtime has no SIMD.
+/// Every row of the list must have one (checked below, in each per-ISA object).
+template <Isa I>
+struct isa_arch;
+template <>
+struct isa_arch<Isa::scalar> {
+  using type = scalar;
+};
+#if HOULE_SIMD_BATCHES
+template <>
+struct isa_arch<Isa::sse4_2> {
+  using type = xsimd::sse4_2;
+};
+template <>
+struct isa_arch<Isa::avx2> {
+  using type = xsimd::fma3<xsimd::avx2>;
+};
+template <>
+struct isa_arch<Isa::avx512> {
+  using type = xsimd::avx512bw;
+};
+template <>
+struct isa_arch<Isa::neon64> {
+  using type = xsimd::neon64;
+};
+template <>
+struct isa_arch<Isa::neon> {
+  using type = xsimd::neon;
+};
+template <Isa I>
+concept has_isa_arch = requires { typename isa_arch<I>::type; };
+#define HOULE_ISA(enum_name, id, name, width, family, flags) \
+  static_assert(has_isa_arch<Isa::enum_name>, "isa_list.inc: no isa_arch for " name);
+#include "houle/runtime/isa_list.inc"
+#undef HOULE_ISA
+#endif
 
 }  // namespace houle::simd
 
@@ -50,19 +91,11 @@ const Table& active_table() noexcept {
 #endif
 namespace houle::simd {
 inline constexpr Isa this_isa = static_cast<Isa>(HOULE_ISA_ID);
-#if HOULE_ISA_ID == 0
-using IsaArch = scalar;
-#elif HOULE_ISA_ID == 1
-using IsaArch = xsimd::sse4_2;
-#elif HOULE_ISA_ID == 2
-using IsaArch = xsimd::fma3<xsimd::avx2>;
-#elif HOULE_ISA_ID == 3
-using IsaArch = xsimd::avx512bw;
-#elif HOULE_ISA_ID == 4
-using IsaArch = xsimd::neon64;
-#elif HOULE_ISA_ID == 5
-using IsaArch = xsimd::neon;
-#endif
+using IsaArch = typename isa_arch<this_isa>::type;
+#define HOULE_ISA(enum_name, id, name, floats, family, flags) \
+  static_assert(this_isa != Isa::enum_name || width<IsaArch> == (floats), "isa_list.inc: width of " name);
+#include "houle/runtime/isa_list.inc"
+#undef HOULE_ISA
 }  // namespace houle::simd
 /// Defines the table of module `Table` for this object's ISA from `make<IsaArch>()`.
 #define HOULE_DEFINE_ISA_TABLE(Table, make)                                              \

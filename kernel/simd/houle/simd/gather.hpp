@@ -1,8 +1,9 @@
-// Integer lanes and table lookups for the SIMD layer (apart from simd.hpp so that it can grow
+// Integer lanes (conversions, bit casts) and table lookups for the SIMD layer (apart from simd.hpp so that it can grow
 // without touching the core vocabulary). vint<A> is int32 per lane; A = scalar gives plain int32.
 // As in simd.hpp, each operation is a plain overload for scalar and a template on the batch's arch,
 // so kernels call them without naming A. Internal to houle: public headers never include this file.
 #pragma once
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
@@ -34,6 +35,9 @@ using vint = typename int_types<A>::i;
 inline std::int32_t to_int_exact(float x) { return static_cast<std::int32_t>(x); }
 /// int32 with |i| < 2^24 to float: exact.
 inline float to_float_exact(std::int32_t i) { return static_cast<float>(i); }
+/// The bits of each lane, reinterpreted (IEEE 754 single <-> int32).
+inline std::int32_t bitcast_to_int(float x) { return std::bit_cast<std::int32_t>(x); }
+inline float bitcast_to_float(std::int32_t i) { return std::bit_cast<float>(i); }
 
 /// Byte B (0 = least significant) of each lane's word, sign-extended, by two shifts (unsigned in
 /// the scalar path so that no signed overflow is involved).
@@ -60,6 +64,14 @@ inline xsimd::batch<std::int32_t, A> to_int_exact(xsimd::batch<float, A> x) {
 template <class A>
 inline xsimd::batch<float, A> to_float_exact(xsimd::batch<std::int32_t, A> i) {
   return xsimd::batch_cast<float>(i);
+}
+template <class A>
+inline xsimd::batch<std::int32_t, A> bitcast_to_int(xsimd::batch<float, A> x) {
+  return xsimd::bitwise_cast<xsimd::batch<std::int32_t, A>>(x);
+}
+template <class A>
+inline xsimd::batch<float, A> bitcast_to_float(xsimd::batch<std::int32_t, A> i) {
+  return xsimd::bitwise_cast<xsimd::batch<float, A>>(i);
 }
 template <int B, class A>
 inline xsimd::batch<std::int32_t, A> signed_byte(xsimd::batch<std::int32_t, A> w) {

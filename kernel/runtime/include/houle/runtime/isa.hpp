@@ -1,6 +1,7 @@
 // Instruction sets houle's kernels are compiled for, and the one chosen at start-up.
 #pragma once
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -8,13 +9,32 @@
 
 namespace houle {
 
-/// Values are stable: they are the HOULE_ISA_ID of each per-ISA object (cmake/HouleIsa.cmake).
-enum class Isa : std::uint8_t { scalar = 0, sse4_2 = 1, avx2 = 2, avx512 = 3, neon64 = 4, neon = 5 };
+/// One value per row of houle/runtime/isa_list.inc. Values are stable: they are the HOULE_ISA_ID of
+/// each per-ISA object (cmake/HouleIsa.cmake).
+enum class Isa : std::uint8_t {
+#define HOULE_ISA(enum_name, id, name, width, family, flags) enum_name = id,
+#include "houle/runtime/isa_list.inc"
+#undef HOULE_ISA
+};
 
-/// "scalar", "sse4.2", "avx2", "avx512", "neon64", "neon".
+/// Every ISA houle knows, compiled or not, in id order.
+inline constexpr std::array all_isas = {
+#define HOULE_ISA(enum_name, id, name, width, family, flags) Isa::enum_name,
+#include "houle/runtime/isa_list.inc"
+#undef HOULE_ISA
+};
+
+/// Their names, comma-separated ("scalar, sse4.2, ..."), for messages and help texts.
+inline constexpr std::string_view isa_names = std::string_view(
+#define HOULE_ISA(enum_name, id, name, width, family, flags) ", " name
+#include "houle/runtime/isa_list.inc"
+#undef HOULE_ISA
+).substr(2);
+
+/// The name column of isa_list.inc ("sse4.2" for Isa::sse4_2).
 std::string_view isa_name(Isa isa) noexcept;
 std::optional<Isa> parse_isa(std::string_view name) noexcept;
-/// Floats per batch: 1, 4, 8, 16, 4, 4.
+/// Floats per batch.
 std::size_t isa_width(Isa isa) noexcept;
 /// Compiled into this build.
 bool isa_compiled(Isa isa) noexcept;
