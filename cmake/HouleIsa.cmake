@@ -40,9 +40,6 @@ message(STATUS "houle: SIMD kernels for: scalar ${HOULE_SIMD_ISAS}")
 
 # Internal: the list of compiled ISAs (for the runtime's dispatch), and the SIMD layer.
 add_library(houle_compiled_isas INTERFACE)
-if(HOULE_FORCE_SCALAR)
-  target_compile_definitions(houle_compiled_isas INTERFACE HOULE_FORCE_SCALAR=1)
-endif()
 # Bit <id> for each ISA compiled in; scalar (id 0) always is.
 math(EXPR _houle_mask "1 << ${HOULE_ISA_ID_scalar}")
 foreach(isa IN LISTS HOULE_SIMD_ISAS)
