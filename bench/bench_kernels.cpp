@@ -14,6 +14,15 @@
 
 namespace {
 
+// Items per second, and their inverse in nanoseconds: an inverted rate is seconds per item, so the
+// count is given in billions.
+void count_samples(benchmark::State& state, std::size_t per_iteration) {
+  const double samples = double(state.iterations()) * double(per_iteration);
+  state.SetItemsProcessed(static_cast<std::int64_t>(samples));
+  state.counters["ns_per_sample"] =
+      benchmark::Counter(samples * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 // Four trains of a moderate swell and a 1003-point row (an 8k+3 width: the tail is included).
 void bm_gerstner(benchmark::State& state, houle::Isa isa) {
   const std::vector<houle::GerstnerWave> waves = {
@@ -30,9 +39,7 @@ void bm_gerstner(benchmark::State& state, houle::Isa isa) {
     benchmark::DoNotOptimize(h.data());
     benchmark::ClobberMemory();
   }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n));
-  state.counters["ns_per_sample"] = benchmark::Counter(double(state.iterations() * n),
-                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  count_samples(state, n);
 }
 
 // The default ripples (6 octaves) at level range(0) on 1003 points within 20 m of the origin.
@@ -49,9 +56,7 @@ void bm_capillary(benchmark::State& state, houle::Isa isa, bool gradient) {
     benchmark::DoNotOptimize(h.data());
     benchmark::ClobberMemory();
   }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n));
-  state.counters["ns_per_sample"] = benchmark::Counter(double(state.iterations() * n),
-                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  count_samples(state, n);
 }
 
 const bool registered = [] {

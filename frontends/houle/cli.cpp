@@ -1,7 +1,9 @@
 #include "cli.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <thread>
 
 #include "houle/sim/animation.hpp"
 
@@ -89,6 +91,8 @@ void take_threads(Args& args, unsigned& threads) {
     else threads = unsigned(*n);
   }
 }
+
+unsigned default_threads() { return std::clamp(std::thread::hardware_concurrency(), 1u, 256u); }
 
 std::optional<double> parse_double(std::string_view text) {
   double v = 0.0;

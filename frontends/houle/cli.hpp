@@ -52,6 +52,9 @@ class Args {
 /// (1..256), stored when present; a bad value fails `args`.
 void take_quality(Args& args, QualityPreset& quality);
 void take_threads(Args& args, unsigned& threads);
+/// The default of --threads: the machine's hardware threads (std::thread::hardware_concurrency),
+/// at least 1 and at most 256. Frames do not depend on it (docs/design.md 9).
+unsigned default_threads();
 
 std::optional<double> parse_double(std::string_view text);
 std::optional<long long> parse_int(std::string_view text);

@@ -30,12 +30,13 @@ int cmd_bench(std::span<char* const> argv) {
 
 Renders N frames (default 100) of SCENE (the built-in coast without one) after N warm-up frames
 (default 5), without writing them, and reports the frame time's median, p90, p99 and maximum, with
-the per-stage split (surface retessellation, noise, march, intersect, shade) and the scene build time.)");
+the per-stage split (surface retessellation, noise, march, intersect, shade) and the scene build time.
+--threads N: render threads (default: the machine's hardware threads).)");
     return 0;
   }
   long frames = 100, warmup = 5;
   int width = 640, height = 360;
-  unsigned threads = 2;
+  unsigned threads = default_threads();
   QualityPreset quality = QualityPreset::realtime;
   if (auto v = args.value("--frames")) {
     const auto n = parse_int(*v);

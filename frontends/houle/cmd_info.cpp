@@ -72,11 +72,11 @@ Describes a scene (the built-in coast without SCENE): domain, sea floor, wave tr
 objects; the effect plan at quality Q (default realtime: which stages run); then builds it and
 reports per train whether it is traced, its rays, diffracted rays and samples, the reflected waves,
 the memory the rays and the resampled sea hold, and the scene build time (tracing and resampling,
-N threads, default 2). --json prints the same facts as one JSON object.)");
+N threads, default the machine's hardware threads). --json prints the same facts as one JSON object.)");
     return 0;
   }
   QualityPreset quality = QualityPreset::realtime;
-  unsigned threads = 2;
+  unsigned threads = default_threads();
   take_quality(args, quality);
   take_threads(args, threads);
   const bool json = args.flag("--json");

@@ -1,10 +1,14 @@
+#include <unistd.h>
+
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 #include <thread>
-#include <unistd.h>
 
 #include "cli.hpp"
 #include "commands.hpp"
@@ -27,26 +31,43 @@ options:
   --fps F                 frames per second of scene time (default 30)
   --size WxH              image size (default 640x360; each side at most 16384, at most 64 Mpixels)
   --quality Q             draft, realtime (default) or film
-  --threads N             render threads (default 2)
+  --threads N             render threads (default: the machine's hardware threads); frames are the
+                          same for any count
   --out PATTERN           image sequence through OpenImageIO, one %d-style frame number in the name
-                          (default frames/%04d.png); .png/.jpg/.tif are 8-bit sRGB, .exr linear half float
+                          (default frames/%04d.png; its folder is made): .png/.jpg/.tif are 8-bit sRGB,
+                          .exr linear half float, .hdr/.pfm linear float (extensions in any case)
   --raw PATH|-            raw frames, tightly packed, top row first, to a file or standard output
-  --pixel-format F        raw pixel format: rgb24 (default), rgba8, bgra8 (sRGB) or rgbf32 (linear)
+  --pixel-format F        raw pixel format, ffmpeg's names: rgb24 (default), rgba, bgra (sRGB; rgba8 and
+                          bgra8 too) or rgbf32 (linear floats); with --out only rgbf32, for linear
+                          32-bit float images (.tif/.tiff as float TIFF, .exr in full float)
   --exposure E            multiplies the linear image before tone mapping (default 1)
   --skip-existing         restart a stopped run: render only the frames whose --out file is missing,
                           or nothing if the --raw file exists (which is then written whole, under a
                           temporary name until its last frame); temporary files that a killed run
                           left (NAME.tmpPID) are removed. One run per frame range at a time
   --realtime              pace output to --fps (live preview pipelines)
-  --quiet, --verbose      no progress line / per-frame stage times on stderr
+  --quiet, --verbose      no progress and summary lines / per-frame stage times on stderr
+
+Progress goes to stderr: one updated line on a terminal, else a line a second; a last line gives
+the frames, the elapsed time and the mean frame rate.
 
 raw frames into ffmpeg:
-  houle render --frames 240 --raw - | ffmpeg -f rawvideo -pix_fmt rgb24 -s 640x360 -r 30 -i - out.mp4
+  houle render --frames 240 --raw - | ffmpeg -f rawvideo -pix_fmt rgb24 -s 640x360 -r 30 -i - -pix_fmt yuv420p out.mp4
 Ctrl-C, or SIGTERM (a Slurm job cancelled or out of time), stops after the current frame; every frame
 written is complete. houle farm spreads a frame range over many machines.)";
 
 std::atomic<bool> interrupted{false};
 extern "C" void on_stop(int) { interrupted = true; }
+
+// "1:02:03" (h:mm:ss), with tenths of a second if asked.
+std::string clock_text(double seconds, bool tenths) {
+  const double s = std::max(seconds, 0.0);
+  const long whole = tenths ? long(s) : std::lround(s);
+  char buf[48];
+  if (tenths) std::snprintf(buf, sizeof buf, "%ld:%02ld:%04.1f", whole / 3600, whole / 60 % 60, s - double(whole / 60 * 60));
+  else std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", whole / 3600, whole / 60 % 60, whole % 60);
+  return buf;
+}
 
 }  // namespace
 
@@ -104,15 +125,14 @@ int cmd_render(std::span<char* const> argv) {
   std::signal(SIGINT, on_stop);
   std::signal(SIGTERM, on_stop);
   // Opened only once the scene is known to build: a refused scene leaves an existing output untouched.
-  if (!o.raw && o.default_out) std::filesystem::create_directories("frames");
   Expected<std::unique_ptr<FrameWriter>> writer =
-      o.raw ? make_raw_writer(*o.raw, o.format, o.width, o.height, o.skip_existing)
-            : make_image_writer(o.out, o.width, o.height);
+      o.raw ? make_raw_writer(*o.raw, o.format.value_or(PixelFormat::rgb24), o.width, o.height, o.skip_existing)
+            : make_image_writer(o.out, o.width, o.height, o.format == PixelFormat::rgbf32);
   if (!writer) {
     std::fprintf(stderr, "houle render: %s: %s\n", writer.error().field.c_str(), writer.error().message.c_str());
     return 2;
   }
-  const bool progress = !o.quiet && ::isatty(2);
+  const bool progress = !o.quiet, live = progress && ::isatty(2);  // live: one line redrawn with \r
   if (o.verbose) std::fprintf(stderr, "houle render: scene built in %.1f ms\n", anim->build_ms());
 
   Framebuffer fb(o.width, o.height);
@@ -120,17 +140,29 @@ int cmd_render(std::span<char* const> argv) {
   const auto start = std::chrono::steady_clock::now();
   const long total = count_frames(todo), skipped = o.last - o.first + 1 - total;
   long done = 0;
+  double last_line = 0.0;
+  // " in 0:00:01.3 (3.1 fps)": the run so far.
+  const auto summary = [&] {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    char buf[96];
+    std::snprintf(buf, sizeof buf, " in %s (%.1f fps)", clock_text(elapsed, true).c_str(),
+                  elapsed > 0.0 ? double(done) / elapsed : 0.0);
+    return std::string(buf);
+  };
   for (const auto& [run_first, run_last] : todo) {
     for (long n = run_first; n <= run_last && !interrupted; ++n, ++done) {
       anim->render(double(n) / o.fps, fb);
       if (o.realtime) std::this_thread::sleep_until(start + std::chrono::duration<double>(double(done + 1) / o.fps));
       const WriteStatus st = writer.value()->write(fb, tm, n);
       if (st == WriteStatus::failed) {
-        std::fprintf(stderr, "%shoule render: %s\n", progress ? "\n" : "", writer.value()->error().c_str());
+        std::fprintf(stderr, "%shoule render: %s\n", live ? "\n" : "", writer.value()->error().c_str());
         return 1;
       }
       if (st == WriteStatus::closed) {
-        if (!o.quiet) std::fprintf(stderr, "%shoule render: output closed by its reader after %ld frames\n", progress ? "\n" : "", done);
+        if (!o.quiet) {
+          std::fprintf(stderr, "%shoule render: output closed by its reader after %ld frames%s\n", live ? "\n" : "", done,
+                       summary().c_str());
+        }
         return 0;
       }
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -138,16 +170,18 @@ int cmd_render(std::span<char* const> argv) {
         const AnimationTimes& t = anim->last_times();
         std::fprintf(stderr, "frame %ld: surface %.2f ms, noise %.2f ms, march %.2f ms, shade %.2f ms, render %.2f ms\n", n,
                      t.surface_ms, t.noise_ms, t.render.march_ms, t.render.shade_ms, t.render.total_ms);
-      } else if (progress) {
+      } else if (live || (progress && (done == 0 || elapsed - last_line >= 1.0))) {
+        // A log (not a terminal) gets a line a second, not one per frame.
+        last_line = elapsed;
         const double fps = double(done + 1) / elapsed;
-        std::fprintf(stderr, "\rframe %ld (%ld/%ld)  %.1f fps  ETA %.0f s   ", n, done + 1, total, fps,
-                     double(total - done - 1) / fps);
+        std::fprintf(stderr, "%sframe %ld (%ld/%ld)  %.1f fps  ETA %s%s", live ? "\r" : "", n, done + 1, total, fps,
+                     clock_text(double(total - done - 1) / fps, false).c_str(), live ? "   " : "\n");
       }
     }
   }
-  if (progress) std::fputc('\n', stderr);
+  if (live) std::fputc('\n', stderr);
   if (interrupted) {
-    std::fprintf(stderr, "houle render: interrupted after %ld complete frames%s\n", done,
+    std::fprintf(stderr, "houle render: interrupted after %ld complete frames%s%s\n", done, summary().c_str(),
                  o.raw && o.skip_existing ? " (not kept: with --skip-existing a --raw file is written whole)" : "");
     return 130;
   }
@@ -155,8 +189,9 @@ int cmd_render(std::span<char* const> argv) {
     std::fprintf(stderr, "houle render: %s\n", writer.value()->error().c_str());
     return 1;
   }
-  if (!o.quiet && (!o.raw || o.skip_existing)) {
-    std::fprintf(stderr, "houle render: %ld frames written to %s", done, (o.raw ? *o.raw : o.out).c_str());
+  if (!o.quiet) {
+    const std::string to = !o.raw ? o.out : *o.raw == "-" ? "standard output" : *o.raw;
+    std::fprintf(stderr, "houle render: %ld frames written to %s%s", done, to.c_str(), summary().c_str());
     if (skipped > 0) std::fprintf(stderr, " (%ld already complete, skipped)", skipped);
     std::fputc('\n', stderr);
   }

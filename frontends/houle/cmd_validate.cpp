@@ -9,7 +9,7 @@ namespace houle::cli {
 int cmd_validate(std::span<char* const> argv) {
   Args args("validate", argv);
   if (args.flag("--help")) {
-    std::puts("usage: houle validate SCENE...\n\nChecks scene files; prints `SCENE: ok` or the first error of each as\nfile:line:column: field: what was expected. Exit code 2 if any is invalid.");
+    std::puts("usage: houle validate SCENE...\n\nChecks scene files; prints `SCENE: ok` or the first error of each as\nfile:line:column: error: field: what was expected. Exit code 2 if any is invalid.");
     return 0;
   }
   const std::vector<std::string> files = args.rest();
@@ -23,7 +23,7 @@ int cmd_validate(std::span<char* const> argv) {
     if (scene) {
       std::printf("%s: ok\n", f.c_str());
     } else {
-      std::fprintf(stderr, "%s: %s\n", scene.error().field.c_str(), scene.error().message.c_str());
+      std::fprintf(stderr, "%s: error: %s\n", scene.error().field.c_str(), scene.error().message.c_str());
       status = 2;
     }
   }

@@ -1,5 +1,6 @@
 #include "frame_writer.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
@@ -49,17 +50,18 @@ namespace {
 #if HOULE_WITH_OIIO
 class ImageWriter final : public FrameWriter {
  public:
-  ImageWriter(const ImageModule& module, std::string pattern, int w, int h, bool linear)
-      : module_(module), pattern_(std::move(pattern)), w_(w), h_(h), linear_(linear), pixels_(std::size_t(w) * h * 3) {}
+  ImageWriter(const ImageModule& module, std::string pattern, int w, int h, ImageStorage storage)
+      : module_(module), pattern_(std::move(pattern)), w_(w), h_(h), storage_(storage), pixels_(std::size_t(w) * h * 3) {}
 
   WriteStatus write(const Framebuffer& fb, const ToneMap& tm, long index) override {
     const std::string name = format_frame_name(pattern_, index).value();
     const std::string tmp = temp_path(name);
-    if (!linear_) encode_frame(fb, tm, PixelFormat::rgb24, std::as_writable_bytes(std::span(pixels_)));
-    const void* data = linear_ ? static_cast<const void*>(fb.rgb.data()) : pixels_.data();
+    const bool linear = storage_ != srgb8;
+    if (!linear) encode_frame(fb, tm, PixelFormat::rgb24, std::as_writable_bytes(std::span(pixels_)));
+    const void* data = linear ? static_cast<const void*>(fb.rgb.data()) : pixels_.data();
     char message[512] = "";
     // The final name picks the format.
-    const bool ok = module_.write_rgb(tmp.c_str(), name.c_str(), w_, h_, linear_, data, message, sizeof message) == 0;
+    const bool ok = module_.write_rgb(tmp.c_str(), name.c_str(), w_, h_, storage_, data, message, sizeof message) == 0;
     std::error_code ec;
     if (ok) std::filesystem::rename(tmp, name, ec);
     if (!ok || ec) {
@@ -74,7 +76,7 @@ class ImageWriter final : public FrameWriter {
   const ImageModule& module_;
   std::string pattern_;
   int w_, h_;
-  bool linear_;
+  ImageStorage storage_;
   std::vector<std::uint8_t> pixels_;
 };
 #endif
@@ -128,7 +130,8 @@ class RawWriter final : public FrameWriter {
 
 }  // namespace
 
-Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& pattern, int width, int height) {
+Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& pattern, int width, int height,
+                                                         bool float32) {
 #if HOULE_WITH_OIIO
   Expected<std::string> first = format_frame_name(pattern, 0);
   if (!first) return first.error();
@@ -138,15 +141,26 @@ Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& patt
   if (module.value()->can_write(first.value().c_str(), message, sizeof message) != 0) {
     return Error{pattern, "no image format for this file name (" + std::string(message) + ")"};
   }
-  const std::string ext = std::filesystem::path(first.value()).extension().string();
-  const bool linear = ext == ".exr" || ext == ".EXR";
-  const std::filesystem::path dir = std::filesystem::path(first.value()).parent_path();
-  if (!dir.empty() && !std::filesystem::is_directory(dir)) {
-    return Error{pattern, "the folder " + dir.string() + " does not exist"};
+  std::string ext = std::filesystem::path(first.value()).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  // Float formats get the linear framebuffer; only TIFF holds either, and is 8-bit unless asked.
+  const bool float_only = ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+  if (float32 && !float_only && ext != ".tif" && ext != ".tiff") {
+    return Error{pattern, "32-bit float images need .exr, .hdr, .pfm, .tif or .tiff"};
   }
-  return std::unique_ptr<FrameWriter>(new ImageWriter(*module.value(), pattern, width, height, linear));
+  const ImageStorage storage = float32                 ? linear_float
+                               : ext == ".exr"         ? linear_half
+                               : float_only            ? linear_float
+                                                       : srgb8;
+  // The pattern's folder is made like the default frames/ (with its parents).
+  const std::filesystem::path dir = std::filesystem::path(first.value()).parent_path();
+  std::error_code ec;
+  if (!dir.empty() && !std::filesystem::create_directories(dir, ec) && !std::filesystem::is_directory(dir)) {
+    return Error{pattern, "cannot make the folder " + dir.string() + (ec ? ": " + ec.message() : std::string())};
+  }
+  return std::unique_ptr<FrameWriter>(new ImageWriter(*module.value(), pattern, width, height, storage));
 #else
-  (void)width, (void)height;
+  (void)width, (void)height, (void)float32;
   return Error{pattern, "this houle was built without OpenImageIO: use --raw"};
 #endif
 }

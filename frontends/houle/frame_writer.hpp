@@ -27,10 +27,14 @@ class FrameWriter {
   std::string error_;
 };
 
-/// `pattern` holds one printf integer conversion (e.g. "frames/%04d.png"); the extension picks the
-/// format: 8-bit sRGB for PNG/JPEG/TIFF..., linear half floats for EXR. Each image is written under
-/// a temporary name and renamed, so no partial image ever has the final name.
-Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& pattern, int width, int height);
+/// `pattern` holds one printf integer conversion (e.g. "frames/%04d.png"); the extension, in any
+/// case, picks the format: linear half floats for EXR, linear 32-bit floats for HDR and PFM, 8-bit
+/// sRGB for PNG/JPEG/TIFF and the rest. `float32` asks for linear 32-bit floats: EXR in full float,
+/// TIFF as float (an error for 8-bit-only formats). Each image is written under
+/// a temporary name and renamed, so no partial image ever has the final name. The pattern's folder
+/// is made, with its parents, if missing.
+Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& pattern, int width, int height,
+                                                         bool float32);
 
 /// Tightly packed frames of `format` to `path`, or to standard output for "-". When `whole`, the
 /// frames go to a temporary file that finish() renames to `path` (a writer destroyed before that

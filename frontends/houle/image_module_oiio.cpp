@@ -19,9 +19,13 @@ int can_write(const char* name, char* error, std::size_t error_size) {
   return fail(OIIO::geterror(), error, error_size);
 }
 
-int write_rgb(const char* path, const char* format_name, int width, int height, int linear, const void* pixels, char* error,
+int write_rgb(const char* path, const char* format_name, int width, int height, int storage, const void* pixels, char* error,
               std::size_t error_size) {
-  OIIO::ImageSpec spec(width, height, 3, linear ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
+  const bool linear = storage != houle::cli::srgb8;
+  OIIO::ImageSpec spec(width, height, 3,
+                       storage == houle::cli::linear_half    ? OIIO::TypeDesc::HALF
+                       : storage == houle::cli::linear_float ? OIIO::TypeDesc::FLOAT
+                                                             : OIIO::TypeDesc::UINT8);
   // zlib level 1: PNG writing dominated frame time at the default 6 (docs/design.md 11: 45 vs 14 ms).
   spec.attribute("png:compressionLevel", 1);
   spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");

@@ -43,7 +43,7 @@ RenderOptions take_render_options(Args& args) {
   o.raw = args.value("--raw");
   if (auto v = args.value("--pixel-format")) {
     const auto f = parse_pixel_format(*v);
-    if (!f) args.fail("--pixel-format expects rgb24, rgba8, bgra8 or rgbf32, got '" + *v + "'");
+    if (!f) args.fail("--pixel-format expects rgb24, rgba, bgra or rgbf32, got '" + *v + "'");
     else o.format = *f;
   }
   if (auto v = args.value("--exposure")) {
@@ -56,6 +56,10 @@ RenderOptions take_render_options(Args& args) {
   o.quiet = args.flag("--quiet");
   o.verbose = args.flag("--verbose");
   if (o.raw && !o.default_out) args.fail("--out and --raw exclude each other");
+  if (!o.raw && o.format && *o.format != PixelFormat::rgbf32) {
+    args.fail("--pixel-format " + std::string(pixel_format_name(*o.format)) +
+              " is for --raw; images take their format from the --out extension (rgbf32 asks for 32-bit floats)");
+  }
   if (o.raw && *o.raw == "-" && o.skip_existing) args.fail("--skip-existing needs a file: it cannot skip frames of standard output");
   return o;
 }

@@ -15,11 +15,11 @@ struct RenderOptions {
   double fps = 30.0;
   int width = 640, height = 360;
   QualityPreset quality = QualityPreset::realtime;
-  unsigned threads = 2;
+  unsigned threads = default_threads();
   std::string out = "frames/%04d.png";
   bool default_out = true;
   std::optional<std::string> raw;
-  PixelFormat format = PixelFormat::rgb24;
+  std::optional<PixelFormat> format;  ///< raw: default rgb24; images: only rgbf32 (32-bit float files)
   float exposure = 1.0f;
   bool skip_existing = false;
   bool realtime = false, quiet = false, verbose = false;

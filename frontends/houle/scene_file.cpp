@@ -1,6 +1,8 @@
 #include "scene_file.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <vector>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -47,6 +49,22 @@ struct Context {
     return {1, 1};
   }
 };
+
+// Levenshtein distance, for "did you mean" on a misspelt key.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
 
 std::string type_name(const toml::node& n) {
   switch (n.type()) {
@@ -176,12 +194,22 @@ class Reader {
     for (const auto& [key, node] : t_) {
       if (!read_.count(std::string(key.str()))) {
         ctx_.fail({key.source().begin.line, key.source().begin.column}, field(key.str()),
-                  "unknown key (see docs/scenes.md)");
+                  "unknown key" + suggestion(key.str()) + " (see docs/scenes.md)");
       }
     }
   }
 
  private:
+  // "; did you mean `period`?" for the table's closest key, if a typo away (a third of its letters).
+  std::string suggestion(std::string_view unknown) const {
+    std::string_view best;
+    std::size_t best_distance = std::max<std::size_t>(1, unknown.size() / 3) + 1;
+    for (const std::string& k : read_) {
+      const std::size_t d = edit_distance(unknown, k);
+      if (d < best_distance) best = k, best_distance = d;
+    }
+    return best.empty() ? std::string() : "; did you mean `" + std::string(best) + "`?";
+  }
   const toml::node* get(std::string_view key) {
     read_.insert(std::string(key));
     const toml::node* n = t_.get(key);

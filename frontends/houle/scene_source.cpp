@@ -14,7 +14,7 @@ std::optional<Scene> scene_from_args(const std::vector<std::string>& positionals
   if (positionals.empty()) return builtin_coast();
   Expected<Scene> scene = load_scene_file(positionals[0]);
   if (!scene) {
-    std::fprintf(stderr, "houle: %s: %s\n", scene.error().field.c_str(), scene.error().message.c_str());
+    std::fprintf(stderr, "%s: error: %s\n", scene.error().field.c_str(), scene.error().message.c_str());
     return std::nullopt;
   }
   return std::move(scene.value());

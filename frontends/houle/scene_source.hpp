@@ -9,7 +9,7 @@
 namespace houle::cli {
 
 /// The scene named by the positionals (at most one), or the built-in coast. On error, prints
-/// "houle: file:line:col: what" and returns nothing.
+/// "file:line:col: error: field: what" (gcc's form, for editors) and returns nothing.
 std::optional<Scene> scene_from_args(const std::vector<std::string>& positionals, const char* command);
 /// What messages call that scene: its file, or "built-in coast".
 std::string scene_name(const std::vector<std::string>& positionals);

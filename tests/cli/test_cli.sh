@@ -40,23 +40,23 @@ fi
 
 f=$(scene unknown-key '[camera]
 positon = [1, 2, 3]')
-expect unknown-key 2 "unknown-key.toml:2:1: camera.positon: unknown key" "$houle" validate "$f"
+expect unknown-key 2 "unknown-key.toml:2:1: error: camera.positon: unknown key" "$houle" validate "$f"
 f=$(scene wrong-type '[[trains]]
 period = "six"')
-expect wrong-type 2 'wrong-type.toml:2:10: trains\[0\].period: expected a number, got a string' "$houle" validate "$f"
+expect wrong-type 2 'wrong-type.toml:2:10: error: trains\[0\].period: expected a number, got a string' "$houle" validate "$f"
 f=$(scene negative-period '[[trains]]
 period = -3.0')
-expect negative-period 2 'negative-period.toml:2:10: trains\[0\].period: a finite value > 0 s, got -3' "$houle" validate "$f"
+expect negative-period 2 'negative-period.toml:2:10: error: trains\[0\].period: a finite value > 0 s, got -3' "$houle" validate "$f"
 f=$(scene too-steep '[[trains]]
 period = 4.0
 amplitude = 3.0')
-expect too-steep 2 'too-steep.toml:3:13: trains\[0\].amplitude: at most the deep-water breaking' "$houle" validate "$f"
+expect too-steep 2 'too-steep.toml:3:13: error: trains\[0\].amplitude: at most the deep-water breaking' "$houle" validate "$f"
 f=$(scene camera-under-floor '[floor.base]
 depth = 10.0
 [camera]
 position = [10.0, 10.0, -12.0]
 look_at = [10.0, 50.0, 0.0]')
-expect camera-under-floor 2 'camera-under-floor.toml:4:12: camera.position.z: a height above the sea floor' "$houle" validate "$f"
+expect camera-under-floor 2 'camera-under-floor.toml:4:12: error: camera.position.z: a height above the sea floor' "$houle" validate "$f"
 f=$(scene jetty-outside '[domain]
 x_max = 100.0
 y_max = 100.0
@@ -66,23 +66,23 @@ expect jetty-outside 2 'jetty-outside.toml:5:.*walls\[0\].points\[1\]: a segment
 f=$(scene syntax '[camera
 position = 1')
 expect toml-syntax 2 'syntax.toml:1:' "$houle" validate "$f"
-expect missing-file 2 'nope.toml: cannot read the scene file' "$houle" validate "$work/nope.toml"
+expect missing-file 2 'nope.toml: error: cannot read the scene file' "$houle" validate "$work/nope.toml"
 head -c 1100000 /dev/zero | tr '\0' '#' >"$work/huge.toml"
 expect huge-file 2 'over the limit of 1048576' "$houle" validate "$work/huge.toml"
 # Non-ASCII text: fine in comments and strings, refused elsewhere with its place (toml_ascii.hpp).
 f=$(scene accents '# Côte sauvage, près du môle
 [floor.base]
 kind = "planar_béach"')
-expect accents-in-string 2 'accents.toml:3:8: floor.base.kind: expected one of "flat", "planar_beach", got "planar_béach"' "$houle" validate "$f"
+expect accents-in-string 2 'accents.toml:3:8: error: floor.base.kind: expected one of "flat", "planar_beach", got "planar_béach"' "$houle" validate "$f"
 f=$(scene accents-ok '# Côte sauvage, près du môle
 [sun]
 elevation_deg = 20.0  # bas sur l’horizon')
 expect accents-in-comment 0 ': ok$' "$houle" validate "$f"
 f=$(scene accents-bare '[sun]
 élévation = 20.0')
-expect accents-in-key 2 'accents-bare.toml:2:1: a non-ASCII character outside a string or comment' "$houle" validate "$f"
+expect accents-in-key 2 'accents-bare.toml:2:1: error: a non-ASCII character outside a string or comment' "$houle" validate "$f"
 printf '[sun]\nelevation_deg = 20.0 \xff\n' >"$work/bad-utf8.toml"
-expect invalid-utf8 2 'bad-utf8.toml:2:22: invalid UTF-8' "$houle" validate "$work/bad-utf8.toml"
+expect invalid-utf8 2 'bad-utf8.toml:2:22: error: invalid UTF-8' "$houle" validate "$work/bad-utf8.toml"
 
 # Height maps from images, read through the image module (image_module.hpp).
 printf 'P2\n4 3\n255\n0 64 128 255\n0 64 128 255\n0 64 128 255\n' >"$work/map.pgm"
@@ -96,18 +96,18 @@ cell = 30.0
 [[trains]]
 period = 5.0"; }
 expect height-map 0 'height map' "$houle" info "$(hm height-map map.pgm)"
-expect height-map-tiny 2 'height-map-tiny.toml:5:8: floor.height_map.file: a height map needs at least 2x2 pixels' "$houle" validate "$(hm height-map-tiny tiny.pgm)"
+expect height-map-tiny 2 'height-map-tiny.toml:5:8: error: floor.height_map.file: a height map needs at least 2x2 pixels' "$houle" validate "$(hm height-map-tiny tiny.pgm)"
 expect height-map-missing 2 'floor.height_map.file: height map: cannot open the image' "$houle" validate "$(hm height-map-missing nope.pgm)"
 
 # Limits (docs/scenes.md): refused up front with what was expected, never an out-of-memory crash.
 f=$(scene huge-domain '[domain]
 x_max = 1000000.0')
-expect limit-domain 2 'huge-domain.toml:2:9: domain.x_max: a side of at most 4000 m, got 1e\+06 m' "$houle" validate "$f"
+expect limit-domain 2 'huge-domain.toml:2:9: error: domain.x_max: a side of at most 4000 m, got 1e\+06 m' "$houle" validate "$f"
 f=$(scene many-trains "$(for i in $(seq 17); do printf '[[trains]]\nperiod = 5.0\n'; done)")
-expect limit-trains 2 'many-trains.toml:1:1: trains: at most 16 entries, got 17' "$houle" validate "$f"
+expect limit-trains 2 'many-trains.toml:1:1: error: trains: at most 16 entries, got 17' "$houle" validate "$f"
 f=$(scene huge-caps '[dwt]
 max_samples = 4000000000')
-expect limit-samples 2 'huge-caps.toml:2:15: dwt.max_samples: a count in \[64, 16777216\]' "$houle" validate "$f"
+expect limit-samples 2 'huge-caps.toml:2:15: error: dwt.max_samples: a count in \[64, 16777216\]' "$houle" validate "$f"
 # Valid, but 16 traced trains over 4 km at film quality would need tens of GiB.
 f=$(scene huge-build "[domain]
 x_max = 4000.0
@@ -214,6 +214,52 @@ expect bad-size 2 "render: --size expects WxH" "$houle" render --size 0x10
 expect bad-frames 2 "render: --frames expects A:B" "$houle" render --frames 5:2
 expect out-and-raw 2 'render: --out and --raw exclude each other' "$houle" render --out x%d.png --raw -
 expect bad-pattern 2 'needs exactly one frame-number conversion' "$houle" render --frames 1 --size $size --out "$work/x.png"
+# The output pattern's folder is made with its parents, like the default frames/ (README's Fig. 4 example).
+expect out-new-folder 0 '1 frames written' "$houle" render --frames 1 --size $size --quality draft --out "$work/fig4/a/%04d.png"
+[ -s "$work/fig4/a/0000.png" ] || { fail=$((fail + 1)); echo "FAIL out-new-folder: no image"; }
+# Float images hold the linear frame (the raw rgbf32 bytes) within their format's precision, whatever
+# the extension's case; TIFF when --pixel-format rgbf32 asks for floats.
+render_draft() { "$houle" render --frames 1 --size $size --quality draft --quiet "$@"; }
+render_draft --raw "$work/linear.f32" --pixel-format rgbf32
+for case in exr:half Exr:half hdr:rgbe tif:float; do
+  ext=${case%%:*}
+  extra=(); [ "$ext" = tif ] && extra=(--pixel-format rgbf32)
+  if render_draft --out "$work/linear_%d.$ext" "${extra[@]}" && oiiotool --dumpdata "$work/linear_0.$ext" >"$work/dump.txt" &&
+     python3 "$src/tests/cli/check_float_image.py" "$work/linear.f32" "$work/dump.txt" "${case##*:}" >"$work/check.txt" 2>&1; then
+    pass=$((pass + 1))
+  else
+    fail=$((fail + 1)); echo "FAIL float image .$ext: $(cat "$work/check.txt")"
+  fi
+done
+expect float-png 2 '32-bit float images need .exr, .hdr, .pfm, .tif or .tiff' "$houle" render --frames 1 --size $size --out "$work/f%d.png" --pixel-format rgbf32
+# --pixel-format is for raw frames: refused with images (but rgbf32); ffmpeg's names, the old ones as aliases.
+expect pixel-format-out 2 'pixel-format rgba is for --raw; images take their format from the --out extension' "$houle" render --frames 1 --out "$work/p%d.png" --pixel-format rgba
+for pf in rgb24:3 rgba:4 bgra:4 rgba8:4 bgra8:4; do
+  render_draft --raw "$work/pf.raw" --pixel-format "${pf%%:*}"
+  if [ "$(stat -c %s "$work/pf.raw")" -eq $((96 * 54 * ${pf##*:})) ]; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAIL --pixel-format ${pf%%:*}"; fi
+done
+# The help's ffmpeg example makes a video players can show (4:2:0), as the README's does.
+expect help-ffmpeg 0 'ffmpeg .*-pix_fmt yuv420p' "$houle" render --help
+# Threads default to the machine's (frames do not depend on them: the 1-vs-2 check above).
+expect help-threads 0 "--threads N .*default: the machine's hardware threads" "$houle" render --help
+expect info-threads 0 "\"threads\": $(getconf _NPROCESSORS_ONLN)," "$houle" info --json
+# Progress reaches a log too (a line, no carriage return), and every run ends with a summary, raw ones too.
+"$houle" render --frames 3 --size $size --quality draft --raw "$work/p.raw" 2>"$work/err.txt"
+if grep -qE '^frame 0 \(1/3\) +[0-9.]+ fps +ETA [0-9]+:[0-9]{2}:[0-9]{2}$' "$work/err.txt" && ! grep -q $'\r' "$work/err.txt" &&
+   grep -qE "^houle render: 3 frames written to $work/p.raw in [0-9]+:[0-9]{2}:[0-9.]+ \([0-9.]+ fps\)$" "$work/err.txt"; then
+  pass=$((pass + 1))
+else
+  fail=$((fail + 1)); echo "FAIL progress and summary to a log: $(cat -A "$work/err.txt")"
+fi
+expect quiet 0 '^$' "$houle" render --frames 2 --size $size --quality draft --raw "$work/p.raw" --quiet
+# Scene errors start with file:line:col (gcc's form, for editors); a misspelt key gets a suggestion.
+expect did-you-mean 2 "unknown-key.toml:2:1: error: camera.positon: unknown key; did you mean \`position\`\?" "$houle" validate "$(scene unknown-key '[camera]
+positon = [1, 2, 3]')"
+expect did-you-mean-train 2 "^[^ ]*typo.toml:2:1: error: trains\[0\].peroid: unknown key; did you mean \`period\`\?" "$houle" render "$(scene typo '[[trains]]
+peroid = 5.0')"
+expect did-you-mean-section 2 "section.toml:1:2: error: camra: unknown key; did you mean \`camera\`\?" "$houle" info "$(scene section '[camra]')"
+expect no-suggestion 2 'far.toml:2:1: error: camera.zzzzzz: unknown key \(see' "$houle" validate "$(scene far '[camera]
+zzzzzz = 1')"
 
 echo "cli: ${pass} passed, ${fail} failed"
 [ "$fail" -eq 0 ]

@@ -47,7 +47,7 @@ expect two-actions 2 'farm slurm: --dry-run, --submit and --local exclude each o
 expect sbatch-array 2 'farm slurm: --sbatch may not set --array' "$houle" farm slurm --chunk 5 --sbatch '-p x -a 1-3' --dry-run
 expect no-folder 2 'farm slurm: nowhere/%04d.png: the folder nowhere does not exist' "$houle" farm slurm --chunk 5 --out 'nowhere/%04d.png'
 expect bad-pattern 2 'needs exactly one frame-number conversion' "$houle" farm slurm --chunk 5 --out x.png
-expect bad-scene 2 'nope.toml: cannot read the scene file' "$houle" farm slurm nope.toml --chunk 5
+expect bad-scene 2 'nope.toml: error: cannot read the scene file' "$houle" farm slurm nope.toml --chunk 5
 expect status-args 2 'farm status: --out PATTERN or --raw PATH is required' "$houle" farm status --frames 0:9
 expect status-raw-chunk 2 'farm status: --raw needs --chunk N' "$houle" farm status --frames 0:9 --raw x.rgb
 expect skip-stdout 2 'render: --skip-existing needs a file' "$houle" render --skip-existing --raw -
@@ -101,7 +101,7 @@ pid=$!
 until [ -s "$(ls stopped.rgb.tmp* 2>/dev/null | head -n 1)" ] || ! kill -0 $pid 2>/dev/null; do sleep 0.05; done
 kill -TERM $pid
 wait $pid; rc=$?
-if [ $rc -eq 130 ] && grep -q 'interrupted after [0-9]* complete frames (not kept' stopped.txt && ! ls stopped.rgb* >/dev/null 2>&1; then
+if [ $rc -eq 130 ] && grep -q 'interrupted after [0-9]* complete frames.* (not kept' stopped.txt && ! ls stopped.rgb* >/dev/null 2>&1; then
   ok
 else
   bad "SIGTERM: exit $rc, $(cat stopped.txt), files: $(ls stopped.rgb* 2>&1)"

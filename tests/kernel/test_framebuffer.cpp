@@ -60,6 +60,8 @@ TEST(Framebuffer, EncodesEveryFormatTightlyPacked) {
     EXPECT_EQ(houle::parse_pixel_format(houle::pixel_format_name(f)), f);
   }
   EXPECT_FALSE(houle::parse_pixel_format("yuv420p").has_value());
+  EXPECT_EQ(houle::parse_pixel_format("rgba8"), houle::PixelFormat::rgba8);
+  EXPECT_EQ(houle::parse_pixel_format("bgra8"), houle::PixelFormat::bgra8);
 }
 
 }  // namespace

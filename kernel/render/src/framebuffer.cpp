@@ -7,7 +7,10 @@
 namespace houle {
 namespace {
 
-constexpr std::array<std::string_view, 4> format_names = {"rgb24", "rgba8", "bgra8", "rgbf32"};
+// ffmpeg's -pix_fmt names, so a pipe's two ends say the same; houle's earlier rgba8 and bgra8 stay
+// accepted.
+constexpr std::array<std::string_view, 4> format_names = {"rgb24", "rgba", "bgra", "rgbf32"};
+constexpr std::array<std::string_view, 4> format_aliases = {"rgb24", "rgba8", "bgra8", "rgbf32"};
 constexpr std::array<std::size_t, 4> format_bytes = {3, 4, 4, 12};
 
 double encode(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055; }
@@ -48,7 +51,7 @@ std::string_view pixel_format_name(PixelFormat f) noexcept { return format_names
 
 std::optional<PixelFormat> parse_pixel_format(std::string_view name) noexcept {
   for (std::size_t i = 0; i < format_names.size(); ++i) {
-    if (format_names[i] == name) return PixelFormat(i);
+    if (format_names[i] == name || format_aliases[i] == name) return PixelFormat(i);
   }
   return std::nullopt;
 }

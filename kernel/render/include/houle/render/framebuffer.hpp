@@ -21,7 +21,9 @@ struct Framebuffer {
 /// Tightly packed output formats. 8-bit ones are display-referred sRGB (tone-mapped, encoded);
 /// rgbf32 is the linear framebuffer itself (for EXR-like use and for tests).
 enum class PixelFormat : std::uint8_t { rgb24, rgba8, bgra8, rgbf32 };
+/// ffmpeg's -pix_fmt name: rgb24, rgba, bgra; rgbf32 (linear floats, native byte order).
 std::string_view pixel_format_name(PixelFormat f) noexcept;
+/// The names above, and rgba8, bgra8 for rgba, bgra.
 std::optional<PixelFormat> parse_pixel_format(std::string_view name) noexcept;
 std::size_t bytes_per_pixel(PixelFormat f) noexcept;
 
