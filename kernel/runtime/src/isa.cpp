@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "houle/runtime/assert.hpp"
+
 #if defined(__arm__) && defined(__linux__)
 #include <asm/hwcap.h>
 #include <sys/auxv.h>
@@ -71,7 +73,10 @@ const Choice& choice() noexcept {
 
 }  // namespace
 
-std::string_view isa_name(Isa isa) noexcept { return names[static_cast<std::size_t>(isa)]; }
+std::string_view isa_name(Isa isa) noexcept {
+  HOULE_ASSERT(static_cast<std::size_t>(isa) < names.size(), "isa_name: one of the Isa values");
+  return names[static_cast<std::size_t>(isa)];
+}
 
 std::optional<Isa> parse_isa(std::string_view name) noexcept {
   for (std::size_t i = 0; i < names.size(); ++i) {
@@ -80,7 +85,10 @@ std::optional<Isa> parse_isa(std::string_view name) noexcept {
   return std::nullopt;
 }
 
-std::size_t isa_width(Isa isa) noexcept { return widths[static_cast<std::size_t>(isa)]; }
+std::size_t isa_width(Isa isa) noexcept {
+  HOULE_ASSERT(static_cast<std::size_t>(isa) < widths.size(), "isa_width: one of the Isa values");
+  return widths[static_cast<std::size_t>(isa)];
+}
 
 bool isa_compiled(Isa isa) noexcept {
   switch (isa) {

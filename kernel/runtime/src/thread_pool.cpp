@@ -3,6 +3,8 @@
 #include <string>
 #include <system_error>
 
+#include "houle/runtime/assert.hpp"
+
 namespace houle::detail {
 
 Expected<std::unique_ptr<ThreadPool>> ThreadPool::create(unsigned threads) {
@@ -32,6 +34,7 @@ ThreadPool::~ThreadPool() {
 }
 
 void ThreadPool::run(Task task, void* context) noexcept {
+  HOULE_ASSERT(task != nullptr, "ThreadPool::run: a task");
   if (!workers_.empty()) {
     {
       std::lock_guard<std::mutex> lock(mutex_);

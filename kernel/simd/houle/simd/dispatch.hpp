@@ -2,6 +2,7 @@
 // `make_table<A>()` in a source compiled once per ISA (cmake: houle_add_isa_library), and looks the
 // table up once; calls then go through a plain pointer, never through a new dispatch.
 #pragma once
+#include "houle/runtime/assert.hpp"
 #include "houle/runtime/isa.hpp"
 #include "houle/simd/simd.hpp"
 
@@ -11,8 +12,10 @@ namespace houle::simd {
 template <class Table, Isa I>
 const Table& isa_table() noexcept;
 
+/// The table for `isa`, which must be supported (the public entries taking an Isa say so).
 template <class Table>
 const Table& table_for(Isa isa) noexcept {
+  HOULE_ASSERT(isa_supported(isa), "an ISA this build and CPU support (isa_supported)");
   switch (isa) {
 #if HOULE_HAVE_ISA_1
     case Isa::sse4_2: return isa_table<Table, Isa::sse4_2>();
