@@ -8,6 +8,11 @@ target_compile_features(houle_options INTERFACE cxx_std_20)
 # and between the scalar and SIMD paths. Fusing is done explicitly where it is wanted.
 # -fno-math-errno lets lrintf/sqrtf inline.
 target_compile_options(houle_options INTERFACE -ffp-contract=off -fno-math-errno)
+# Contract checks (houle/runtime/assert.hpp) in every houle target alike: Expected's accessors are
+# inline, and a library and its tests must agree on them.
+if(HOULE_ASSERTS)
+  target_compile_definitions(houle_options INTERFACE HOULE_ENABLE_ASSERTS)
+endif()
 
 add_library(houle_warnings INTERFACE)
 target_compile_options(houle_warnings INTERFACE

@@ -40,8 +40,9 @@ the phase.)");
   const std::optional<Scene> scene = scene_from_args(positionals, "probe");
   if (!scene) return 2;
   const float sea_cell = Quality{}.sea_cell;  // the realtime quality's resampling grid
-  if (const std::optional<Error> e = check_build_memory(*scene, sea_cell, 0)) {
-    std::fprintf(stderr, "houle probe: %s: %s: %s\n", scene_name(positionals).c_str(), e->field.c_str(), e->message.c_str());
+  if (const Expected<void> fits = check_build_memory(*scene, sea_cell, 0); !fits) {
+    std::fprintf(stderr, "houle probe: %s: %s: %s\n", scene_name(positionals).c_str(), fits.error().field.c_str(),
+                 fits.error().message.c_str());
     return 2;
   }
   Expected<WaveField> field = trace_wave_field(*scene, 2);

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <string>
 
+#include "houle/runtime/assert.hpp"
+
 namespace houle {
 namespace {
 
@@ -24,7 +26,7 @@ std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20)
 // Per traced sample: the tracer's store (9 doubles, flags, ray index) and the output rays (7 doubles,
 // flags) exist together at the end of a trace. Per sea grid node: phi, amplitude, kx, ky. The floor
 // grid has one float per metre (render_scene.cpp). Per pixel: the renderer's and the caller's buffers.
-std::optional<Error> check_build_memory(const Scene& s, float sea_cell, std::uint64_t pixels) {
+Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t pixels) {
   constexpr std::uint64_t per_sample = 9 * 8 + 1 + 4 + 7 * 8 + 1, per_node = 4 * 4, per_pixel = 64;
   std::uint64_t rays = 0, sea = 0;
   for (std::size_t t = 0; t < s.trains.size(); ++t) {
@@ -34,7 +36,7 @@ std::optional<Error> check_build_memory(const Scene& s, float sea_cell, std::uin
   }
   const std::uint64_t floor = grid_nodes(s.domain, 1.0) * 4, image = pixels * per_pixel;
   const std::uint64_t total = rays + sea + floor + image;
-  if (total <= scene_limits::max_animation_bytes) return std::nullopt;
+  if (total <= scene_limits::max_animation_bytes) return {};
   return Error{"scene", "needs an estimated " + mib(total) + " at this quality and size (wave rays " + mib(rays) +
                             ", sea grids " + mib(sea) + ", floor " + mib(floor) + ", image " + mib(image) +
                             "), over the limit of " + mib(scene_limits::max_animation_bytes) +
@@ -42,7 +44,10 @@ std::optional<Error> check_build_memory(const Scene& s, float sea_cell, std::uin
                             "or a coarser quality"};
 }
 
-std::string_view quality_name(QualityPreset q) noexcept { return quality_names[std::size_t(q)]; }
+std::string_view quality_name(QualityPreset q) noexcept {
+  HOULE_ASSERT(std::size_t(q) < quality_names.size(), "quality_name: one of the QualityPreset values");
+  return quality_names[std::size_t(q)];
+}
 
 std::optional<QualityPreset> parse_quality(std::string_view name) noexcept {
   for (std::size_t i = 0; i < quality_names.size(); ++i) {
@@ -82,11 +87,12 @@ Quality quality_preset(QualityPreset q) noexcept {
 
 Expected<Animation> Animation::create(const Scene& scene_in, const Quality& quality, std::uint32_t width,
                                       std::uint32_t height, unsigned threads) {
+  HOULE_ASSERT(threads >= 1, "Animation::create: threads >= 1");
   const auto t0 = Clock::now();
   Expected<Scene> scene = validate(scene_in);
   if (!scene) return scene.error();
   const Scene& s = scene.value();
-  if (std::optional<Error> e = check_build_memory(s, quality.sea_cell, std::uint64_t(width) * height)) return *e;
+  if (Expected<void> fits = check_build_memory(s, quality.sea_cell, std::uint64_t(width) * height); !fits) return fits.error();
 
   CameraParams cp;
   cp.position = {float(s.camera.position.x), float(s.camera.position.y), float(s.camera.position.z)};
@@ -129,6 +135,8 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
 }
 
 void Animation::render(double time_s, Framebuffer& out) noexcept {
+  HOULE_ASSERT(out.width == int(renderer_.width()) && out.height == int(renderer_.height()),
+               "Animation::render: a framebuffer of the animation's width x height");
   auto t0 = Clock::now();
   sea_->set_time(time_s);
   surface_.begin_frame(camera_.position[0], camera_.position[1]);

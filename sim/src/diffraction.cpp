@@ -81,7 +81,7 @@ bool snap_into(double& x, double lo, double hi) noexcept {
   return x >= lo && x <= hi;
 }
 
-std::optional<Error> check_common(DiffractionModel model, double r_over_L, double alpha) {
+Expected<void> check_common(DiffractionModel model, double r_over_L, double alpha) {
   if (model != DiffractionModel::exact && model != DiffractionModel::paper &&
       model != DiffractionModel::paper_corrected) {
     return Error{"model", "exact, paper or paper_corrected"};
@@ -91,7 +91,7 @@ std::optional<Error> check_common(DiffractionModel model, double r_over_L, doubl
   }
   if (!(alpha >= 0.0 && alpha <= 1.0))
     return Error{"alpha", "a reflection coefficient in [0, 1], got " + std::to_string(alpha)};
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace
@@ -197,7 +197,7 @@ std::complex<float> sommerfeld_field_fg(double k_r, double theta, double theta0,
 
 Expected<DiffractionSample> diffraction(DiffractionModel model, double r_over_L, double theta, double theta0,
                                         double alpha) {
-  if (auto e = check_common(model, r_over_L, alpha)) return *e;
+  if (Expected<void> common = check_common(model, r_over_L, alpha); !common) return common.error();
   if (!(theta0 >= 0.0 && theta0 <= pi)) return Error{"theta0", "in [0, pi] rad, got " + std::to_string(theta0)};
   if (!snap_into(theta, 0.0, two_pi))
     return Error{"theta", "in [0, 2 pi] rad (the water), got " + std::to_string(theta)};
@@ -209,7 +209,7 @@ Expected<DiffractionSample> diffraction(DiffractionModel model, double r_over_L,
 
 Expected<DiffractionSample> diffraction_at_beta(DiffractionModel model, double r_over_L, double beta, double gamma,
                                                 double alpha) {
-  if (auto e = check_common(model, r_over_L, alpha)) return *e;
+  if (Expected<void> common = check_common(model, r_over_L, alpha); !common) return common.error();
   if (!(gamma >= 0.0 && gamma <= pi)) return Error{"gamma", "in [0, pi] rad, got " + std::to_string(gamma)};
   if (!snap_into(beta, -pi / 2 - gamma, 1.5 * pi - gamma)) {
     return Error{"beta",

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "houle/runtime/assert.hpp"
 #include "houle/simd/dispatch.hpp"
 #include "sim_table.hpp"
 
@@ -91,11 +92,20 @@ LinearWave linear_wave(double omega, double depth, double kh_guess) noexcept {
   return make_linear_wave(omega, depth, solve_kh(deep_water_wavenumber(omega) * depth, kh_guess));
 }
 
+namespace {
+void check_batch(double omega, const float* depth, std::size_t n, const float* k) noexcept {
+  HOULE_ASSERT(omega > 0.0, "dispersion_k_batch: omega > 0 rad/s");
+  HOULE_ASSERT(n == 0 || (depth != nullptr && k != nullptr), "dispersion_k_batch: n floats in depth and k");
+}
+}  // namespace
+
 void dispersion_k_batch(double omega, const float* depth, std::size_t n, float* k) noexcept {
+  check_batch(omega, depth, n, k);
   simd::active_table<detail::SimTable>().dispersion_k_batch(float(deep_water_wavenumber(omega)), depth, n, k);
 }
 
 void dispersion_k_batch(Isa isa, double omega, const float* depth, std::size_t n, float* k) noexcept {
+  check_batch(omega, depth, n, k);
   simd::table_for<detail::SimTable>(isa).dispersion_k_batch(float(deep_water_wavenumber(omega)), depth, n, k);
 }
 

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string>
 
+#include "houle/runtime/assert.hpp"
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/dispersion.hpp"
 
@@ -176,6 +177,7 @@ void SeaSurface::eval(const float* x, const float* y, std::size_t n, float* heig
 }
 
 TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept {
+  HOULE_ASSERT(train < trains_.size(), "SeaSurface::probe: a field of trains()");
   const TrainGrid& g = grids_[train];
   const TrainGridFields l = train_grid_fields(g, x, y);
   float diffraction = 1.0f;
@@ -201,6 +203,7 @@ TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept
 
 void SeaSurface::sample(void* context, const float* x, const float* y, std::size_t n, float* height, float* grad_x,
                         float* grad_y) noexcept {
+  HOULE_ASSERT(context != nullptr, "SeaSurface::sample: a SeaSurface as the context");
   static_cast<const SeaSurface*>(context)->eval(x, y, n, height, grad_x, grad_y);
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <iterator>
 
+#include "houle/runtime/assert.hpp"
+
 namespace houle {
 namespace {
 
@@ -294,6 +296,7 @@ Spectrum gaussian_spectrum(double centre_nm, double sigma_nm) noexcept {
 }
 
 SeaColour sea_colour(double dominant_nm, double sigma_nm, double luminance_y) noexcept {
+  HOULE_ASSERT(sigma_nm > 0.0, "sea_colour: sigma_nm > 0");
   SeaColour out{};
   const Spectrum g = gaussian_spectrum(dominant_nm, sigma_nm);
   const CieXyz xyz = integrate(g);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "houle/runtime/assert.hpp"
+
 namespace houle {
 namespace {
 
@@ -47,7 +49,10 @@ const Srgb8Table& srgb8_table() {
 
 }  // namespace
 
-std::string_view pixel_format_name(PixelFormat f) noexcept { return format_names[std::size_t(f)]; }
+std::string_view pixel_format_name(PixelFormat f) noexcept {
+  HOULE_ASSERT(std::size_t(f) < format_names.size(), "pixel_format_name: one of the PixelFormat values");
+  return format_names[std::size_t(f)];
+}
 
 std::optional<PixelFormat> parse_pixel_format(std::string_view name) noexcept {
   for (std::size_t i = 0; i < format_names.size(); ++i) {
@@ -56,7 +61,10 @@ std::optional<PixelFormat> parse_pixel_format(std::string_view name) noexcept {
   return std::nullopt;
 }
 
-std::size_t bytes_per_pixel(PixelFormat f) noexcept { return format_bytes[std::size_t(f)]; }
+std::size_t bytes_per_pixel(PixelFormat f) noexcept {
+  HOULE_ASSERT(std::size_t(f) < format_bytes.size(), "bytes_per_pixel: one of the PixelFormat values");
+  return format_bytes[std::size_t(f)];
+}
 
 float tone_map(float linear, const ToneMap& tm) noexcept {
   const float x = linear * tm.exposure;
@@ -76,6 +84,8 @@ std::uint8_t srgb8_from_linear(float v) noexcept {
 
 void encode_frame(const Framebuffer& fb, const ToneMap& tm, PixelFormat f, std::span<std::byte> out) noexcept {
   const std::size_t n = std::size_t(fb.width) * std::size_t(fb.height);
+  HOULE_ASSERT(fb.width >= 0 && fb.height >= 0 && fb.rgb.size() == 3 * n, "encode_frame: width * height * 3 floats in fb.rgb");
+  HOULE_ASSERT(out.size() == bytes_per_pixel(f) * n, "encode_frame: bytes_per_pixel(f) * width * height bytes in out");
   if (f == PixelFormat::rgbf32) {
     std::memcpy(out.data(), fb.rgb.data(), n * 12);
     return;

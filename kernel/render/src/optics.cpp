@@ -1,6 +1,7 @@
 // Scalar and dispatched entry points of the interface optics (templates in optics_impl.hpp).
 #include "houle/render/optics.hpp"
 
+#include "houle/runtime/assert.hpp"
 #include "houle/simd/dispatch.hpp"
 #include "render_table.hpp"
 #include "optics_impl.hpp"
@@ -11,11 +12,27 @@ float fresnel_reflectance(float cos_i, float n1, float n2) noexcept {
   return detail::fresnel_terms<simd::scalar>(cos_i, n1 / n2).reflectance;
 }
 
+namespace {
+void check_fresnel(const float* cos_i, const float* reflectance, std::size_t n) noexcept {
+  HOULE_ASSERT(n == 0 || (cos_i != nullptr && reflectance != nullptr), "fresnel_reflectance: n floats in cos_i and reflectance");
+}
+void check_reflect_refract(const ReflectRefractInput& in, std::size_t n, const ReflectRefractOutput& out) noexcept {
+  HOULE_ASSERT(n == 0 || (in.ix != nullptr && in.iy != nullptr && in.iz != nullptr && in.nx != nullptr &&
+                          in.ny != nullptr && in.nz != nullptr),
+               "reflect_refract: n floats in every input array");
+  HOULE_ASSERT(n == 0 || (out.rx != nullptr && out.ry != nullptr && out.rz != nullptr && out.tx != nullptr &&
+                          out.ty != nullptr && out.tz != nullptr && out.reflectance != nullptr),
+               "reflect_refract: n floats in every output array");
+}
+}  // namespace
+
 void fresnel_reflectance(const float* cos_i, float eta, float* reflectance, std::size_t n) noexcept {
+  check_fresnel(cos_i, reflectance, n);
   simd::active_table<detail::RenderTable>().fresnel_batch(cos_i, eta, reflectance, n);
 }
 
 void fresnel_reflectance(Isa isa, const float* cos_i, float eta, float* reflectance, std::size_t n) noexcept {
+  check_fresnel(cos_i, reflectance, n);
   simd::table_for<detail::RenderTable>(isa).fresnel_batch(cos_i, eta, reflectance, n);
 }
 
@@ -36,11 +53,13 @@ ReflectRefract reflect_refract(std::array<float, 3> incident, std::array<float, 
 
 void reflect_refract(const ReflectRefractInput& in, std::size_t n, float n_outside, float n_inside,
                      ReflectRefractOutput out) noexcept {
+  check_reflect_refract(in, n, out);
   simd::active_table<detail::RenderTable>().reflect_refract_batch(in, n, n_outside, n_inside, out);
 }
 
 void reflect_refract(Isa isa, const ReflectRefractInput& in, std::size_t n, float n_outside, float n_inside,
                      ReflectRefractOutput out) noexcept {
+  check_reflect_refract(in, n, out);
   simd::table_for<detail::RenderTable>(isa).reflect_refract_batch(in, n, n_outside, n_inside, out);
 }
 

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "houle/runtime/assert.hpp"
 #include "houle/render/optics.hpp"
 #include "houle/render/sky.hpp"
 #include "scene_objects.hpp"
@@ -474,6 +475,7 @@ std::uint32_t Renderer::height() const noexcept { return impl_->height; }
 unsigned Renderer::threads() const noexcept { return impl_->pool->size(); }
 
 void Renderer::fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept {
+  HOULE_ASSERT(sampler != nullptr, "Renderer::fill_surface: a sampler");
   const unsigned parts = std::min(impl_->pool->size(), SurfaceFrame::max_fill_parts);
   surface.begin_fill();
   impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
@@ -488,6 +490,12 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   Impl& r = *impl_;
   r.times = {};
   r.counters = {};
+  HOULE_ASSERT(out.width == int(r.width) && out.height == int(r.height) &&
+                   out.rgb.size() == std::size_t(r.width) * r.height * 3,
+               "Renderer::render: a framebuffer of the renderer's width x height");
+  HOULE_ASSERT(camera.width == r.width && camera.height == r.height,
+               "Renderer::render: a camera of the renderer's width and height");
+  // Without assertions a wrong call still writes nothing.
   if (out.width != int(r.width) || out.height != int(r.height) || out.rgb.size() != std::size_t(r.width) * r.height * 3 ||
       camera.width != r.width || camera.height != r.height) {
     return;

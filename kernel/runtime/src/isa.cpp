@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "houle/runtime/assert.hpp"
+
 #if defined(__arm__) && defined(__linux__)
 #include <asm/hwcap.h>
 #include <sys/auxv.h>
@@ -94,7 +96,10 @@ const Choice& choice() noexcept {
 
 }  // namespace
 
-std::string_view isa_name(Isa isa) noexcept { return rows[static_cast<std::size_t>(isa)].name; }
+std::string_view isa_name(Isa isa) noexcept {
+  HOULE_ASSERT(static_cast<std::size_t>(isa) < isa_count, "isa_name: one of the Isa values");
+  return rows[static_cast<std::size_t>(isa)].name;
+}
 
 std::optional<Isa> parse_isa(std::string_view name) noexcept {
   for (const IsaRow& row : rows) {
@@ -103,7 +108,10 @@ std::optional<Isa> parse_isa(std::string_view name) noexcept {
   return std::nullopt;
 }
 
-std::size_t isa_width(Isa isa) noexcept { return rows[static_cast<std::size_t>(isa)].width; }
+std::size_t isa_width(Isa isa) noexcept {
+  HOULE_ASSERT(static_cast<std::size_t>(isa) < isa_count, "isa_width: one of the Isa values");
+  return rows[static_cast<std::size_t>(isa)].width;
+}
 
 bool isa_compiled(Isa isa) noexcept { return ((HOULE_COMPILED_ISA_MASK >> static_cast<unsigned>(isa)) & 1u) != 0; }
 

@@ -4,6 +4,8 @@
 #include <string>
 #include <system_error>
 
+#include "houle/runtime/assert.hpp"
+
 namespace houle::detail {
 namespace {
 
@@ -44,6 +46,7 @@ ThreadPool::~ThreadPool() {
 }
 
 void ThreadPool::run(Call call, void* task, std::size_t n, std::size_t grain) noexcept {
+  HOULE_ASSERT(call != nullptr && grain > 0, "ThreadPool::run: a task and a grain of at least one item");
   const std::size_t count = (n + grain - 1) / grain;
   if (count == 0) return;
   if (workers_.empty()) {

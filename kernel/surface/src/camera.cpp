@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "houle/runtime/assert.hpp"
+
 namespace houle {
 namespace {
 
@@ -51,6 +53,8 @@ Expected<Camera> make_camera(const CameraParams& p) {
 
 void camera_row_rays(const Camera& c, std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x, float sub_y,
                      float* dx, float* dy, float* dz) noexcept {
+  HOULE_ASSERT(row < c.height && x0 <= c.width && n <= c.width - x0, "camera_row_rays: pixels of the image");
+  HOULE_ASSERT(n == 0 || (dx != nullptr && dy != nullptr && dz != nullptr), "camera_row_rays: n floats in dx, dy, dz");
   // Image-plane point at unit distance: forward + a right + b up, a and b in pixel_scale units from
   // the image centre. The row's part (forward + b up) is shared; float throughout (the directions feed
   // a float marcher) with a correctly rounded sqrt and division, so every build gives the same bits.

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "capillary_impl.hpp"
+#include "houle/runtime/assert.hpp"
 #include "houle/simd/dispatch.hpp"
 #include "surface_table.hpp"
 
@@ -102,6 +103,7 @@ const CapillaryLattice& capillary_lattice() noexcept {
 }  // namespace detail
 
 CapillaryOctave capillary_octave(const CapillaryParams& p, int i) noexcept {
+  HOULE_ASSERT(i >= 0 && std::size_t(i) < CapillaryFrame::max_octaves, "capillary_octave: an octave below max_octaves");
   CapillaryOctave o{};
   const double k = p.lacunarity, scale = std::pow(k, -double(i));
   o.amplitude = double(p.amplitude) * scale;
@@ -166,13 +168,25 @@ Expected<CapillaryFrame> make_capillary_frame(const CapillaryParams& p, double t
   return f;
 }
 
+namespace {
+void check_eval(const CapillaryFrame& frame, const float* x, const float* y, const float* level, std::size_t n,
+                const float* h, const float* grad_x, const float* grad_y) noexcept {
+  HOULE_ASSERT(frame.octaves <= CapillaryFrame::max_octaves, "capillary_eval: at most max_octaves octaves in the frame");
+  HOULE_ASSERT(n == 0 || (x != nullptr && y != nullptr && level != nullptr && h != nullptr),
+               "capillary_eval: n floats in each of x, y, level and h");
+  HOULE_ASSERT((grad_x == nullptr) == (grad_y == nullptr), "capillary_eval: grad_x and grad_y both given or both null");
+}
+}  // namespace
+
 void capillary_eval(const CapillaryFrame& frame, const float* x, const float* y, const float* level, std::size_t n,
                     float* h, float* grad_x, float* grad_y) noexcept {
+  check_eval(frame, x, y, level, n, h, grad_x, grad_y);
   simd::active_table<detail::SurfaceTable>().capillary_eval(frame, x, y, level, n, h, grad_x, grad_y);
 }
 
 void capillary_eval(Isa isa, const CapillaryFrame& frame, const float* x, const float* y, const float* level,
                     std::size_t n, float* h, float* grad_x, float* grad_y) noexcept {
+  check_eval(frame, x, y, level, n, h, grad_x, grad_y);
   simd::table_for<detail::SurfaceTable>(isa).capillary_eval(frame, x, y, level, n, h, grad_x, grad_y);
 }
 

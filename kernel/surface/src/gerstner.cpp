@@ -4,6 +4,7 @@
 #include <numbers>
 #include <string>
 
+#include "houle/runtime/assert.hpp"
 #include "houle/simd/dispatch.hpp"
 #include "surface_table.hpp"
 
@@ -40,13 +41,26 @@ Expected<GerstnerFrame> make_gerstner_frame(std::span<const GerstnerWave> waves,
   return f;
 }
 
+namespace {
+void check_eval(const GerstnerFrame& frame, const float* x, const float* y, std::size_t n, GerstnerOutput out,
+                int newton_steps) noexcept {
+  HOULE_ASSERT(frame.count <= GerstnerFrame::max_waves, "gerstner_eval: at most max_waves trains in the frame");
+  HOULE_ASSERT(n == 0 || (x != nullptr && y != nullptr), "gerstner_eval: n points in x and y");
+  HOULE_ASSERT(n == 0 || (out.height != nullptr && out.grad_x != nullptr && out.grad_y != nullptr),
+               "gerstner_eval: n floats in each of out.height, out.grad_x, out.grad_y");
+  HOULE_ASSERT(newton_steps >= 1, "gerstner_eval: newton_steps >= 1");
+}
+}  // namespace
+
 void gerstner_eval(const GerstnerFrame& frame, const float* x, const float* y, std::size_t n, GerstnerOutput out,
                    int newton_steps) noexcept {
+  check_eval(frame, x, y, n, out, newton_steps);
   simd::active_table<detail::SurfaceTable>().gerstner_eval(frame, x, y, n, out, newton_steps);
 }
 
 void gerstner_eval(Isa isa, const GerstnerFrame& frame, const float* x, const float* y, std::size_t n,
                    GerstnerOutput out, int newton_steps) noexcept {
+  check_eval(frame, x, y, n, out, newton_steps);
   simd::table_for<detail::SurfaceTable>(isa).gerstner_eval(frame, x, y, n, out, newton_steps);
 }
 

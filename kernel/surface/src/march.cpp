@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "houle/runtime/assert.hpp"
 #include "houle/simd/dispatch.hpp"
 #include "surface_table.hpp"
 #include "march_context.hpp"
@@ -91,8 +92,23 @@ detail::MarchContext make_context(const SurfaceFrame& frame, const MarchParams& 
 
 const detail::SurfaceTable& table(Isa isa) noexcept { return simd::table_for<detail::SurfaceTable>(isa); }
 
+// The knobs' documented ranges (MarchQuality); set_ray_params still clamps them in release builds.
+void check_params(const MarchParams& p) noexcept {
+  const MarchQuality& q = p.quality;
+  HOULE_ASSERT(q.step_fraction > 0.0f && q.min_step > 0.0f, "MarchQuality: step_fraction > 0 and min_step > 0");
+  HOULE_ASSERT(q.refine_iterations >= 0 && q.max_steps >= 1, "MarchQuality: refine_iterations >= 0 and max_steps >= 1");
+}
+
+void check_rays(const MarchParams& p, const MarchRays& rays, std::size_t n) noexcept {
+  check_params(p);
+  HOULE_ASSERT(n == 0 || (rays.ox != nullptr && rays.oy != nullptr && rays.oz != nullptr && rays.dx != nullptr &&
+                          rays.dy != nullptr && rays.dz != nullptr),
+               "march_rays: n origins and directions");
+}
+
 void march_row(const detail::SurfaceTable& k, const SurfaceFrame& frame, const Camera& cam, const MarchParams& params,
                std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x, float sub_y, const MarchHits& hits) noexcept {
+  check_params(params);
   const detail::MarchContext c = make_context(frame, params);
   constexpr std::size_t chunk = 256;  // on the stack: 7 KiB
   float ox[chunk], oy[chunk], oz[chunk], dx[chunk], dy[chunk], dz[chunk];
@@ -114,11 +130,13 @@ void march_row(const detail::SurfaceTable& k, const SurfaceFrame& frame, const C
 
 void march_rays(const SurfaceFrame& frame, const MarchParams& params, const MarchRays& rays, std::size_t n,
                 const MarchHits& hits) noexcept {
+  check_rays(params, rays, n);
   simd::active_table<detail::SurfaceTable>().march_rays(make_context(frame, params), rays, n, hits);
 }
 
 void march_rays(Isa isa, const SurfaceFrame& frame, const MarchParams& params, const MarchRays& rays, std::size_t n,
                 const MarchHits& hits) noexcept {
+  check_rays(params, rays, n);
   table(isa).march_rays(make_context(frame, params), rays, n, hits);
 }
 

@@ -39,27 +39,27 @@ Layout layout(const SurfaceFrameConfig& c) {
   return l;
 }
 
-/// Why `c` is invalid, or an empty field when it is fine.
-Error check(const SurfaceFrameConfig& c) {
+/// Why `c` is invalid, if it is.
+Expected<void> check(const SurfaceFrameConfig& c) {
   if (c.levels < 1 || c.levels > SurfaceFrame::max_levels) {
-    return {"surface.levels", "an integer in [1, " + std::to_string(SurfaceFrame::max_levels) + "]"};
+    return Error{"surface.levels", "an integer in [1, " + std::to_string(SurfaceFrame::max_levels) + "]"};
   }
   if (!power_of_two(c.tile_cells) || c.tile_cells < 2 || c.tile_cells > max_tile_cells) {
-    return {"surface.tile_cells", "a power of two in [2, " + std::to_string(max_tile_cells) + "]"};
+    return Error{"surface.tile_cells", "a power of two in [2, " + std::to_string(max_tile_cells) + "]"};
   }
   // >= 4 tiles per side keeps each level inside the next coarser one (nested bounds, morph partner).
   if (c.cells % c.tile_cells != 0 || c.cells < 4 * c.tile_cells || c.cells > 8192) {
-    return {"surface.cells", "a multiple of tile_cells, at least 4 tile_cells and at most 8192"};
+    return Error{"surface.cells", "a multiple of tile_cells, at least 4 tile_cells and at most 8192"};
   }
   if (!(c.finest_cell > 0.0f) || !std::isfinite(c.finest_cell) ||
       !std::isfinite(std::ldexp(double(c.finest_cell) * c.cells, int(c.levels)))) {
-    return {"surface.finest_cell", "a finite cell size > 0 m"};
+    return Error{"surface.finest_cell", "a finite cell size > 0 m"};
   }
-  if (!(c.blend_fraction > 0.0f && c.blend_fraction <= 0.5f)) return {"surface.blend_fraction", "a value in (0, 0.5]"};
-  if (!std::isfinite(c.far_height)) return {"surface.far_height", "a finite height in m"};
+  if (!(c.blend_fraction > 0.0f && c.blend_fraction <= 0.5f)) return Error{"surface.blend_fraction", "a value in (0, 0.5]"};
+  if (!std::isfinite(c.far_height)) return Error{"surface.far_height", "a finite height in m"};
   // Node indices and offsets pass through float in the marcher: keep them below 2^24.
   if (std::size_t(c.levels) * layout(c).level_floats >= (std::size_t(1) << 24)) {
-    return {"surface", "levels * (cells + 1)^2 too large (node offsets must stay below 2^24)"};
+    return Error{"surface", "levels * (cells + 1)^2 too large (node offsets must stay below 2^24)"};
   }
   return {};
 }
@@ -88,12 +88,12 @@ void SurfaceFrame::FreeAligned::operator()(float* p) const noexcept {
 }
 
 std::size_t SurfaceFrame::bytes_bound(const SurfaceFrameConfig& config) noexcept {
-  if (!check(config).field.empty()) return 0;
+  if (!check(config)) return 0;
   return layout(config).total_floats * sizeof(float);
 }
 
 Expected<SurfaceFrame> SurfaceFrame::create(const SurfaceFrameConfig& config) {
-  if (Error e = check(config); !e.field.empty()) return e;
+  if (Expected<void> valid = check(config); !valid) return valid.error();
   const Layout l = layout(config);
   float* p = static_cast<float*>(
       ::operator new(l.total_floats * sizeof(float), std::align_val_t{align_floats * sizeof(float)}, std::nothrow));
@@ -240,6 +240,7 @@ void SurfaceFrame::restrict_to_view(const Camera& cam) noexcept {
 }
 
 bool SurfaceFrame::tile_filled(std::uint32_t l, std::uint32_t tile_x, std::uint32_t tile_y) const noexcept {
+  HOULE_ASSERT(l < config_.levels && tile_x < tiles_ && tile_y < tiles_, "SurfaceFrame::tile_filled: a tile of the frame");
   return needed_[(std::size_t(l) * tiles_ + tile_y) * tiles_ + tile_x] != 0;
 }
 
@@ -253,6 +254,7 @@ float SurfaceFrame::slope_bound() const noexcept {
 }
 
 TileBounds SurfaceFrame::tile(std::uint32_t l, std::uint32_t tx, std::uint32_t ty) const noexcept {
+  HOULE_ASSERT(l < config_.levels && tx < tiles_ && ty < tiles_, "SurfaceFrame::tile: a tile of the frame");
   const std::size_t i = (std::size_t(l) * tiles_ + ty) * tiles_ + tx;
   return {tile_min_[i], tile_max_[i], tile_sx_[i], tile_sy_[i]};
 }
@@ -282,12 +284,15 @@ SurfaceFrameView SurfaceFrame::view() const noexcept {
 }
 
 void SurfaceFrame::fill(SurfaceSampler sampler, void* context) noexcept {
+  HOULE_ASSERT(sampler != nullptr, "SurfaceFrame::fill: a sampler");
   begin_fill();
   fill_part(sampler, context, 0, 1);
   finish_frame();
 }
 
 void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned part, unsigned parts) noexcept {
+  HOULE_ASSERT(sampler != nullptr, "SurfaceFrame::fill_part: a sampler");
+  HOULE_ASSERT(parts >= 1 && parts <= max_fill_parts && part < parts, "SurfaceFrame::fill_part: part < parts <= max_fill_parts");
   const std::uint32_t nodes = config_.cells + 1, tc = config_.tile_cells;
   float* row_x = row_x_ + std::size_t(part) * stride_;
   float* row_y = row_y_ + std::size_t(part) * stride_;

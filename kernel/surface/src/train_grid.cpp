@@ -3,13 +3,31 @@
 #include <cmath>
 #include <numbers>
 
+#include "houle/runtime/assert.hpp"
 #include "houle/simd/dispatch.hpp"
 #include "surface_table.hpp"
 #include "train_grid_impl.hpp"
 
 namespace houle {
 
+namespace {
+void check_trains(const TrainGridFrame& frame) noexcept {
+  HOULE_ASSERT(frame.count <= TrainGridFrame::max_trains, "TrainGridFrame: at most max_trains trains");
+  HOULE_ASSERT(frame.count == 0 || frame.trains != nullptr, "TrainGridFrame: `count` trains");
+  for (std::uint32_t t = 0; t < frame.count && frame.trains != nullptr; ++t) {
+    const TrainGrid& g = frame.trains[t];
+    HOULE_ASSERT((g.nx == 0 && g.ny == 0) || (g.nx >= 2 && g.ny >= 2 && std::uint64_t(g.nx) * g.ny < (1ull << 31)),
+                 "TrainGrid: nx, ny >= 2 with nx * ny < 2^31, or both 0");
+    HOULE_ASSERT(g.nx == 0 || (g.phi != nullptr && g.amplitude != nullptr && g.kx != nullptr && g.ky != nullptr &&
+                               g.fold != nullptr && g.lean != nullptr),
+                 "TrainGrid: nx * ny values in each field array");
+  }
+}
+}  // namespace
+
 void set_train_grid_time(TrainGridFrame& frame, const double* omega_t_minus_phase) noexcept {
+  check_trains(frame);
+  HOULE_ASSERT(frame.count == 0 || omega_t_minus_phase != nullptr, "set_train_grid_time: a phase per train");
   constexpr double two_pi = 2.0 * std::numbers::pi;
   for (std::uint32_t t = 0; t < frame.count; ++t) {
     frame.time_phase[t] = float(std::remainder(omega_t_minus_phase[t], two_pi));
@@ -23,13 +41,24 @@ TrainGridFields train_grid_fields(const TrainGrid& grid, float x, float y) noexc
   return {phi, l.amplitude, l.kx, l.ky, l.fold, l.lean};
 }
 
+namespace {
+void check_eval(const TrainGridFrame& frame, const float* x, const float* y, std::size_t n, GerstnerOutput out) noexcept {
+  check_trains(frame);
+  HOULE_ASSERT(n == 0 || (x != nullptr && y != nullptr), "train_grid_eval: n points in x and y");
+  HOULE_ASSERT(n == 0 || (out.height != nullptr && out.grad_x != nullptr && out.grad_y != nullptr),
+               "train_grid_eval: n floats in each of out.height, out.grad_x, out.grad_y");
+}
+}  // namespace
+
 void train_grid_eval(const TrainGridFrame& frame, const float* x, const float* y, std::size_t n,
                      GerstnerOutput out) noexcept {
+  check_eval(frame, x, y, n, out);
   simd::active_table<detail::SurfaceTable>().train_grid_eval(frame, x, y, n, out);
 }
 
 void train_grid_eval(Isa isa, const TrainGridFrame& frame, const float* x, const float* y, std::size_t n,
                      GerstnerOutput out) noexcept {
+  check_eval(frame, x, y, n, out);
   simd::table_for<detail::SurfaceTable>(isa).train_grid_eval(frame, x, y, n, out);
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 
+#include "houle/runtime/assert.hpp"
 #include "houle/runtime/isa.hpp"
 #include "houle/simd/simd.hpp"
 
@@ -23,8 +24,10 @@ inline constexpr bool compiled_in(Isa isa) {
 template <class Table, Isa I>
 const Table& isa_table() noexcept;
 
+/// The table for `isa`, which must be supported (the public entries taking an Isa say so).
 template <class Table>
 const Table& table_for(Isa isa) noexcept {
+  HOULE_ASSERT(isa_supported(isa), "an ISA this build and CPU support (isa_supported)");
   switch (isa) {
     // The tables of ISAs not compiled into this build are never named: they are not defined.
 #define HOULE_ISA(enum_name, id, name, width, family, flags)                           \

@@ -75,6 +75,7 @@
 #include <span>
 #include <vector>
 
+#include "houle/runtime/assert.hpp"
 #include "houle/runtime/expected.hpp"
 #include "houle/sim/scene.hpp"
 
@@ -162,6 +163,7 @@ struct WaveRays {
   std::size_t sample_count() const noexcept { return x.size(); }
   /// Index of ray r's on-grid sample on `step`, or -1 if it has none there.
   std::int64_t sample_at_step(std::size_t r, std::int64_t step) const noexcept {
+    HOULE_ASSERT(r < ray_count(), "WaveRays::sample_at_step: a ray of this train");
     const std::size_t begin = sample_begin[r], end = sample_begin[r + 1];
     if (begin == end) return -1;
     const std::size_t head = (sample_flags[begin] & sample_flag::off_grid) ? 1 : 0;

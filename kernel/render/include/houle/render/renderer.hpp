@@ -138,8 +138,9 @@ class Renderer {
   Renderer& operator=(Renderer&&) noexcept;
   ~Renderer();
 
-  /// One frame into `out` (sized width x height beforehand; nothing is written otherwise). `camera`
-  /// must have this renderer's width and height (nothing is written otherwise). `noise` may be null
+  /// One frame into `out`, which must be sized width x height beforehand, seen by `camera`, which
+  /// must have this renderer's width and height: otherwise a build with HOULE_ASSERTS aborts with a
+  /// message, and a release build writes nothing. `noise` may be null
   /// (no capillary ripples); its level at each hit sets the glint's extra roughness with
   /// `noise_params`, or with noise->params when that is null. No heap allocation; deterministic.
   void render(const SurfaceFrame& surface, const CapillaryFrame* noise, const CapillaryParams* noise_params,

@@ -13,6 +13,8 @@
 #include <memory>
 #include <vector>
 
+#include "houle/runtime/assert.hpp"
+
 namespace houle {
 
 /// The layout of several arrays in one block. Each array starts on a 64-byte line and at least a
@@ -36,6 +38,7 @@ class BulkLayout {
 
   template <class T>
   static T* at(std::byte* block, std::size_t offset) noexcept {
+    HOULE_ASSERT(block != nullptr && offset % line == 0, "BulkLayout::at: an offset from add() into an allocated block");
     // Through void*: every offset is 64-byte aligned (add()), which -Wcast-align cannot know.
     return static_cast<T*>(static_cast<void*>(block + offset));
   }

@@ -35,6 +35,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "houle/runtime/assert.hpp"
 #include "houle/surface/camera.hpp"
 #include "houle/runtime/expected.hpp"
 #include "houle/surface/gerstner.hpp"
@@ -116,17 +117,20 @@ class SurfaceFrame {
   void restrict_to_view(const Camera& camera) noexcept;
   /// Whether the current fill covers tile (tile_x, tile_y) of level l.
   bool tile_filled(std::uint32_t l, std::uint32_t tile_x, std::uint32_t tile_y) const noexcept;
-  const SurfaceLevel& level(std::uint32_t l) const noexcept { return levels_[l]; }
+  const SurfaceLevel& level(std::uint32_t l) const noexcept {
+    HOULE_ASSERT(l < config_.levels, "SurfaceFrame::level: a level of the config");
+    return levels_[l];
+  }
   /// Floats between node rows of the arrays below.
   std::size_t stride() const noexcept { return stride_; }
   /// Level l's node arrays ((cells + 1) rows of `stride` floats), for fills that write them directly.
   /// Raw samples until finish_frame(), which morphs the band nodes in place.
-  float* heights(std::uint32_t l) noexcept { return height_ + l * level_floats_; }
-  float* grad_x(std::uint32_t l) noexcept { return grad_x_ + l * level_floats_; }
-  float* grad_y(std::uint32_t l) noexcept { return grad_y_ + l * level_floats_; }
-  const float* heights(std::uint32_t l) const noexcept { return height_ + l * level_floats_; }
-  const float* grad_x(std::uint32_t l) const noexcept { return grad_x_ + l * level_floats_; }
-  const float* grad_y(std::uint32_t l) const noexcept { return grad_y_ + l * level_floats_; }
+  float* heights(std::uint32_t l) noexcept { return height_ + node_offset(l); }
+  float* grad_x(std::uint32_t l) noexcept { return grad_x_ + node_offset(l); }
+  float* grad_y(std::uint32_t l) noexcept { return grad_y_ + node_offset(l); }
+  const float* heights(std::uint32_t l) const noexcept { return height_ + node_offset(l); }
+  const float* grad_x(std::uint32_t l) const noexcept { return grad_x_ + node_offset(l); }
+  const float* grad_y(std::uint32_t l) const noexcept { return grad_y_ + node_offset(l); }
 
   /// Evaluates every node to be filled with `sampler` (runs of at most cells + 1 points along a row),
   /// then finish_frame().
@@ -162,6 +166,10 @@ class SurfaceFrame {
     void operator()(float* p) const noexcept;
   };
   SurfaceFrame() = default;
+  std::size_t node_offset(std::uint32_t l) const noexcept {
+    HOULE_ASSERT(l < config_.levels, "SurfaceFrame: the node arrays of a level of the config");
+    return l * level_floats_;
+  }
   void morph_level(std::uint32_t l) noexcept;
   void finish_level(std::uint32_t l) noexcept;
   void finish_global() noexcept;
