@@ -36,10 +36,12 @@ options:
 
 raw frames into ffmpeg:
   houle render --frames 240 --raw - | ffmpeg -f rawvideo -pix_fmt rgb24 -s 640x360 -r 30 -i - out.mp4
-Ctrl-C stops after the current frame; every frame written is complete.)";
+Ctrl-C (or SIGTERM, SIGHUP) stops after the current frame; every frame written is complete.)";
 
-std::atomic<bool> interrupted{false};
-extern "C" void on_sigint(int) { interrupted = true; }
+// The signal that stopped the run (0: none). Terminal hang-ups and service managers stop a render
+// the way Ctrl-C does, so that no frame is left half written.
+std::atomic<int> interrupted{0};
+extern "C" void on_stop_signal(int sig) { interrupted = sig; }
 
 struct Options {
   long first = 0, last = 47;
@@ -117,6 +119,12 @@ int cmd_render(std::span<char* const> argv) {
     std::fprintf(stderr, "houle %s\n", args.error().message.c_str());
     return 2;
   }
+  // The output is checked before the scene is built, and opened after: a refused scene leaves an
+  // existing output untouched.
+  if (const std::optional<Error> e = o.raw ? check_raw_output(*o.raw) : check_image_output(o.out, o.default_out)) {
+    std::fprintf(stderr, "houle render: %s: %s\n", e->field.c_str(), e->message.c_str());
+    return 2;
+  }
   std::optional<Scene> scene = scene_from_args(positionals, "render");
   if (!scene) return 2;
 
@@ -127,7 +135,6 @@ int cmd_render(std::span<char* const> argv) {
                  anim.error().message.c_str());
     return 2;
   }
-  // Opened only once the scene is known to build: a refused scene leaves an existing output untouched.
   if (!o.raw && o.default_out) std::filesystem::create_directories("frames");
   Expected<std::unique_ptr<FrameWriter>> writer =
       o.raw ? make_raw_writer(*o.raw, o.format, o.width, o.height) : make_image_writer(o.out, o.width, o.height);
@@ -138,7 +145,7 @@ int cmd_render(std::span<char* const> argv) {
   const bool progress = !o.quiet && ::isatty(2);
   if (o.verbose) std::fprintf(stderr, "houle render: scene built in %.1f ms\n", anim->build_ms());
 
-  std::signal(SIGINT, on_sigint);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_stop_signal);
   Framebuffer fb(o.width, o.height);
   const ToneMap tm{o.exposure};
   const auto start = std::chrono::steady_clock::now();
@@ -170,7 +177,7 @@ int cmd_render(std::span<char* const> argv) {
   if (progress) std::fputc('\n', stderr);
   if (interrupted) {
     std::fprintf(stderr, "houle render: interrupted after %ld complete frames\n", done);
-    return 130;
+    return 128 + interrupted;  // as the shell reports a process the signal ended
   }
   if (!o.quiet && !o.raw) {
     std::fprintf(stderr, "houle render: %ld frames written to %s\n", done, o.out.c_str());

@@ -43,6 +43,20 @@ Expected<std::string> format_frame_name(const std::string& pattern, long index) 
 
 namespace {
 
+// Why frames cannot be created in `dir` (the current folder if empty), or nothing. A missing folder
+// is fine where `missing_ok` (created later): then its parent must take it.
+std::optional<std::string> folder_problem(std::filesystem::path dir, bool missing_ok) {
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  if (!std::filesystem::exists(dir, ec)) {
+    if (!missing_ok) return "the folder " + dir.string() + " does not exist";
+    dir = dir.parent_path().empty() ? std::filesystem::path(".") : dir.parent_path();
+  }
+  if (!std::filesystem::is_directory(dir, ec)) return dir.string() + " is not a folder";
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) return "the folder " + dir.string() + " is not writable (" + std::strerror(errno) + ")";
+  return std::nullopt;
+}
+
 #if HOULE_WITH_OIIO
 class ImageWriter final : public FrameWriter {
  public:
@@ -112,7 +126,7 @@ class RawWriter final : public FrameWriter {
 
 }  // namespace
 
-Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& pattern, int width, int height) {
+std::optional<Error> check_image_output(const std::string& pattern, bool folder_created) {
 #if HOULE_WITH_OIIO
   Expected<std::string> first = format_frame_name(pattern, 0);
   if (!first) return first.error();
@@ -122,13 +136,33 @@ Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& patt
   if (module.value()->can_write(first.value().c_str(), message, sizeof message) != 0) {
     return Error{pattern, "no image format for this file name (" + std::string(message) + ")"};
   }
-  const std::string ext = std::filesystem::path(first.value()).extension().string();
-  const bool linear = ext == ".exr" || ext == ".EXR";
-  const std::filesystem::path dir = std::filesystem::path(first.value()).parent_path();
-  if (!dir.empty() && !std::filesystem::is_directory(dir)) {
-    return Error{pattern, "the folder " + dir.string() + " does not exist"};
+  if (auto problem = folder_problem(std::filesystem::path(first.value()).parent_path(), folder_created)) {
+    return Error{pattern, *problem};
   }
-  return std::unique_ptr<FrameWriter>(new ImageWriter(*module.value(), pattern, width, height, linear));
+  return std::nullopt;
+#else
+  (void)folder_created;
+  return Error{pattern, "this houle was built without OpenImageIO: use --raw"};
+#endif
+}
+
+std::optional<Error> check_raw_output(const std::string& path) {
+  if (path == "-") return std::nullopt;
+  std::optional<std::string> problem = folder_problem(std::filesystem::path(path).parent_path(), false);
+  std::error_code ec;
+  if (!problem && std::filesystem::exists(path, ec) && ::access(path.c_str(), W_OK) != 0) {
+    problem = std::string("not writable (") + std::strerror(errno) + ")";
+  }
+  if (problem) return Error{path, "cannot open for writing: " + *problem};
+  return std::nullopt;
+}
+
+Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& pattern, int width, int height) {
+  if (std::optional<Error> e = check_image_output(pattern, false)) return *e;
+#if HOULE_WITH_OIIO
+  const std::string ext = std::filesystem::path(format_frame_name(pattern, 0).value()).extension().string();
+  const bool linear = ext == ".exr" || ext == ".EXR";
+  return std::unique_ptr<FrameWriter>(new ImageWriter(*image_module().value(), pattern, width, height, linear));
 #else
   (void)width, (void)height;
   return Error{pattern, "this houle was built without OpenImageIO: use --raw"};

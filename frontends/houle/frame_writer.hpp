@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,12 @@ class FrameWriter {
  protected:
   std::string error_;
 };
+
+/// Whether frames can go there, checked before the scene is built (seconds, for a large one) and
+/// without creating anything: the pattern names an image format, the folder exists (or, where
+/// `folder_created`, its parent does) and is writable; for raw, the file's folder and the file.
+std::optional<Error> check_image_output(const std::string& pattern, bool folder_created);
+std::optional<Error> check_raw_output(const std::string& path);
 
 /// `pattern` holds one printf integer conversion (e.g. "frames/%04d.png"); the extension picks the
 /// format: 8-bit sRGB for PNG/JPEG/TIFF..., linear half floats for EXR. Each image is written under
