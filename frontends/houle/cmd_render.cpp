@@ -53,11 +53,13 @@ the frames, the elapsed time and the mean frame rate.
 
 raw frames into ffmpeg:
   houle render --frames 240 --raw - | ffmpeg -f rawvideo -pix_fmt rgb24 -s 640x360 -r 30 -i - -pix_fmt yuv420p out.mp4
-Ctrl-C, or SIGTERM (a Slurm job cancelled or out of time), stops after the current frame; every frame
-written is complete. houle farm spreads a frame range over many machines.)";
+Ctrl-C, SIGTERM (a Slurm job cancelled or out of time) or SIGHUP stops after the current frame; every
+frame written is complete. houle farm spreads a frame range over many machines.)";
 
-std::atomic<bool> interrupted{false};
-extern "C" void on_stop(int) { interrupted = true; }
+// The signal that stopped the run (0: none). Terminal hang-ups and service managers stop a render
+// the way Ctrl-C does, so that no frame is left half written.
+std::atomic<int> interrupted{0};
+extern "C" void on_stop_signal(int sig) { interrupted = sig; }
 
 // "1:02:03" (h:mm:ss), with tenths of a second if asked.
 std::string clock_text(double seconds, bool tenths) {
@@ -81,6 +83,12 @@ int cmd_render(std::span<char* const> argv) {
   const std::vector<std::string> positionals = args.rest();
   if (args.failed()) {
     std::fprintf(stderr, "houle %s\n", args.error().message.c_str());
+    return 2;
+  }
+  // The output is checked before the scene is built, and opened after: a refused scene leaves an
+  // existing output untouched.
+  if (Expected<void> ok = o.raw ? check_raw_output(*o.raw) : check_image_output(o.out, o.format == PixelFormat::rgbf32); !ok) {
+    std::fprintf(stderr, "houle render: %s: %s\n", ok.error().field.c_str(), ok.error().message.c_str());
     return 2;
   }
   // What is left to do: every frame, or with --skip-existing those not yet on disk.
@@ -121,10 +129,6 @@ int cmd_render(std::span<char* const> argv) {
                  anim.error().message.c_str());
     return 2;
   }
-  // From here on a stop ends the run after a complete frame (and a --raw file written whole is removed).
-  std::signal(SIGINT, on_stop);
-  std::signal(SIGTERM, on_stop);
-  // Opened only once the scene is known to build: a refused scene leaves an existing output untouched.
   Expected<std::unique_ptr<FrameWriter>> writer =
       o.raw ? make_raw_writer(*o.raw, o.format.value_or(PixelFormat::rgb24), o.width, o.height, o.skip_existing)
             : make_image_writer(o.out, o.width, o.height, o.format == PixelFormat::rgbf32);
@@ -135,6 +139,8 @@ int cmd_render(std::span<char* const> argv) {
   const bool progress = !o.quiet, live = progress && ::isatty(2);  // live: one line redrawn with \r
   if (o.verbose) std::fprintf(stderr, "houle render: scene built in %.1f ms\n", anim->build_ms());
 
+  // From here on a stop ends the run after a complete frame (and a --raw file written whole is removed).
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_stop_signal);
   Framebuffer fb(o.width, o.height);
   const ToneMap tm{o.exposure};
   const auto start = std::chrono::steady_clock::now();
@@ -183,7 +189,7 @@ int cmd_render(std::span<char* const> argv) {
   if (interrupted) {
     std::fprintf(stderr, "houle render: interrupted after %ld complete frames%s%s\n", done, summary().c_str(),
                  o.raw && o.skip_existing ? " (not kept: with --skip-existing a --raw file is written whole)" : "");
-    return 130;
+    return 128 + interrupted;  // as the shell reports a process the signal ended
   }
   if (writer.value()->finish() == WriteStatus::failed) {
     std::fprintf(stderr, "houle render: %s\n", writer.value()->error().c_str());

@@ -26,6 +26,8 @@ int cmd_validate(std::span<char* const> argv) {
       std::fprintf(stderr, "%s: error: %s\n", scene.error().field.c_str(), scene.error().message.c_str());
       status = 2;
     }
+    // Each result as soon as it is known: a run stopped on a later file keeps the earlier ones.
+    std::fflush(stdout);
   }
   return status;
 }

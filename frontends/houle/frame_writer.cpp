@@ -47,6 +47,22 @@ Expected<std::string> format_frame_name(const std::string& pattern, long index) 
 
 namespace {
 
+// Why frames cannot be created in `dir` (the current folder if empty), or nothing. A missing folder
+// is fine where `missing_ok` (created later): then its parent must take it.
+std::optional<std::string> folder_problem(std::filesystem::path dir, bool made_if_missing) {
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  if (!std::filesystem::exists(dir, ec)) {
+    if (!made_if_missing) return "the folder " + dir.string() + " does not exist";
+    // It will be made with its parents: the nearest folder that exists must take them.
+    while (!dir.parent_path().empty() && dir.parent_path() != dir && !std::filesystem::exists(dir, ec)) dir = dir.parent_path();
+    if (!std::filesystem::exists(dir, ec)) dir = ".";
+  }
+  if (!std::filesystem::is_directory(dir, ec)) return dir.string() + " is not a folder";
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) return "the folder " + dir.string() + " is not writable (" + std::strerror(errno) + ")";
+  return std::nullopt;
+}
+
 #if HOULE_WITH_OIIO
 class ImageWriter final : public FrameWriter {
  public:
@@ -130,8 +146,22 @@ class RawWriter final : public FrameWriter {
 
 }  // namespace
 
-Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& pattern, int width, int height,
-                                                         bool float32) {
+#if HOULE_WITH_OIIO
+namespace {
+// Float formats get the linear framebuffer; only TIFF holds either, and is 8-bit unless asked.
+Expected<ImageStorage> image_storage(const std::string& pattern, const std::string& first, bool float32) {
+  std::string ext = std::filesystem::path(first).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const bool float_only = ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+  if (float32 && !float_only && ext != ".tif" && ext != ".tiff") {
+    return Error{pattern, "32-bit float images need .exr, .hdr, .pfm, .tif or .tiff"};
+  }
+  return float32 ? linear_float : ext == ".exr" ? linear_half : float_only ? linear_float : srgb8;
+}
+}  // namespace
+#endif
+
+Expected<void> check_image_output(const std::string& pattern, bool float32) {
 #if HOULE_WITH_OIIO
   Expected<std::string> first = format_frame_name(pattern, 0);
   if (!first) return first.error();
@@ -141,24 +171,39 @@ Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& patt
   if (module.value()->can_write(first.value().c_str(), message, sizeof message) != 0) {
     return Error{pattern, "no image format for this file name (" + std::string(message) + ")"};
   }
-  std::string ext = std::filesystem::path(first.value()).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  // Float formats get the linear framebuffer; only TIFF holds either, and is 8-bit unless asked.
-  const bool float_only = ext == ".exr" || ext == ".hdr" || ext == ".pfm";
-  if (float32 && !float_only && ext != ".tif" && ext != ".tiff") {
-    return Error{pattern, "32-bit float images need .exr, .hdr, .pfm, .tif or .tiff"};
+  if (Expected<ImageStorage> storage = image_storage(pattern, first.value(), float32); !storage) return storage.error();
+  if (auto problem = folder_problem(std::filesystem::path(first.value()).parent_path(), true)) return Error{pattern, *problem};
+  return {};
+#else
+  (void)float32;
+  return Error{pattern, "this houle was built without OpenImageIO: use --raw"};
+#endif
+}
+
+Expected<void> check_raw_output(const std::string& path) {
+  if (path == "-") return {};
+  std::optional<std::string> problem = folder_problem(std::filesystem::path(path).parent_path(), false);
+  std::error_code ec;
+  if (!problem && std::filesystem::exists(path, ec) && ::access(path.c_str(), W_OK) != 0) {
+    problem = std::string("not writable (") + std::strerror(errno) + ")";
   }
-  const ImageStorage storage = float32                 ? linear_float
-                               : ext == ".exr"         ? linear_half
-                               : float_only            ? linear_float
-                                                       : srgb8;
+  if (problem) return Error{path, "cannot open for writing: " + *problem};
+  return {};
+}
+
+Expected<std::unique_ptr<FrameWriter>> make_image_writer(const std::string& pattern, int width, int height,
+                                                         bool float32) {
+  if (Expected<void> ok = check_image_output(pattern, float32); !ok) return ok.error();
+#if HOULE_WITH_OIIO
+  const std::string first = format_frame_name(pattern, 0).value();
+  const ImageStorage storage = image_storage(pattern, first, float32).value();
   // The pattern's folder is made like the default frames/ (with its parents).
-  const std::filesystem::path dir = std::filesystem::path(first.value()).parent_path();
+  const std::filesystem::path dir = std::filesystem::path(first).parent_path();
   std::error_code ec;
   if (!dir.empty() && !std::filesystem::create_directories(dir, ec) && !std::filesystem::is_directory(dir)) {
     return Error{pattern, "cannot make the folder " + dir.string() + (ec ? ": " + ec.message() : std::string())};
   }
-  return std::unique_ptr<FrameWriter>(new ImageWriter(*module.value(), pattern, width, height, storage));
+  return std::unique_ptr<FrameWriter>(new ImageWriter(*image_module().value(), pattern, width, height, storage));
 #else
   (void)width, (void)height, (void)float32;
   return Error{pattern, "this houle was built without OpenImageIO: use --raw"};

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,13 @@ class FrameWriter {
  protected:
   std::string error_;
 };
+
+/// Whether frames can go there, checked before the scene is built (seconds, for a large one) and
+/// without creating anything: the pattern names an image format (and a float one where `float32`),
+/// and its folder, or the nearest existing folder above it, is writable; for raw, the file's folder
+/// exists and the folder and the file are writable.
+Expected<void> check_image_output(const std::string& pattern, bool float32);
+Expected<void> check_raw_output(const std::string& path);
 
 /// `pattern` holds one printf integer conversion (e.g. "frames/%04d.png"); the extension, in any
 /// case, picks the format: linear half floats for EXR, linear 32-bit floats for HDR and PFM, 8-bit

@@ -4,6 +4,7 @@
 
 #if HOULE_WITH_OIIO
 #include "image_module.hpp"
+#include "input_file.hpp"
 #endif
 
 namespace houle::cli {
@@ -28,6 +29,12 @@ struct Pixels {
 }  // namespace
 
 Expected<HeightMap> load_height_map(const std::string& path, const HeightMapFile& how) {
+  const Expected<std::uintmax_t> size = regular_file_size(path);
+  if (!size) return Error{path, "height map: cannot open the image: " + size.error().message};
+  if (size.value() > max_height_map_bytes) {
+    return Error{path, "height map file of " + std::to_string(size.value()) + " bytes is over the limit of " +
+                           std::to_string(max_height_map_bytes)};
+  }
   Expected<const ImageModule*> module = image_module();
   if (!module) return module.error();
   Pixels pixels;

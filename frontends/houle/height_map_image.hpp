@@ -1,5 +1,6 @@
 // Sea-floor height maps from image files (any format OpenImageIO reads; 8- or 16-bit grey is usual).
 #pragma once
+#include <cstdint>
 #include <string>
 
 #include "houle/runtime/expected.hpp"
@@ -9,6 +10,8 @@ namespace houle::cli {
 
 /// Images larger than this many pixels are refused up front.
 inline constexpr std::size_t max_height_map_pixels = std::size_t(8192) * 8192;
+/// Files larger than this are refused before reading: 8192x8192 RGBA floats fit.
+inline constexpr std::uintmax_t max_height_map_bytes = std::uintmax_t(1) << 31;
 
 /// The image at `path` (how.file resolved against the scene file's directory) as a height map.
 Expected<HeightMap> load_height_map(const std::string& path, const HeightMapFile& how);

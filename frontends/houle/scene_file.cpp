@@ -16,6 +16,7 @@
 #include <toml++/toml.h>
 
 #include "height_map_image.hpp"
+#include "input_file.hpp"
 #include "houle/sim/scene_keys.hpp"
 #include "toml_ascii.hpp"
 
@@ -341,11 +342,10 @@ Expected<Scene> parse_scene(std::string_view text, const std::string& name, cons
 }
 
 Expected<Scene> load_scene_file(const std::string& path) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) return Error{path, "cannot read the scene file: " + ec.message()};
-  if (size > max_scene_file_bytes) {
-    return Error{path, "scene file of " + std::to_string(size) + " bytes is over the limit of " +
+  const Expected<std::uintmax_t> size = regular_file_size(path);
+  if (!size) return Error{path, "cannot read the scene file: " + size.error().message};
+  if (size.value() > max_scene_file_bytes) {
+    return Error{path, "scene file of " + std::to_string(size.value()) + " bytes is over the limit of " +
                            std::to_string(max_scene_file_bytes) + " (height maps belong in image files)"};
   }
   std::ifstream in(path, std::ios::binary);

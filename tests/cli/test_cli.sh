@@ -98,6 +98,26 @@ period = 5.0"; }
 expect height-map 0 'height map' "$houle" info "$(hm height-map map.pgm)"
 expect height-map-tiny 2 'height-map-tiny.toml:5:8: error: floor.height_map.file: a height map needs at least 2x2 pixels' "$houle" validate "$(hm height-map-tiny tiny.pgm)"
 expect height-map-missing 2 'floor.height_map.file: height map: cannot open the image' "$houle" validate "$(hm height-map-missing nope.pgm)"
+# Only regular files are read: a device or a FIFO would never end (bounded by timeout, since they hang).
+mkfifo "$work/fifo.pgm"
+for dev in /dev/zero /dev/urandom "$work/fifo.pgm"; do
+  expect "height-map $dev" 2 'floor.height_map.file: height map: cannot open the image: not a regular file' \
+    timeout 10 "$houle" validate "$(hm height-map-dev "$dev")"
+done
+expect scene-fifo 2 'fifo.pgm: error: cannot read the scene file: not a regular file' timeout 10 "$houle" validate "$work/fifo.pgm"
+# validate prints each file's line as it is known: stopped while blocked on a later file's error
+# (stderr into a pipe nobody reads), the earlier "ok" is already out.
+mkfifo "$work/stalled"
+exec 3<>"$work/stalled"
+ok_scene=$(hm validate-ok map.pgm)
+# shellcheck disable=SC2046
+"$houle" validate "$ok_scene" $(for _ in $(seq 2000); do echo "$work/nope.toml"; done) >"$work/validate.out" 2>"$work/stalled" &
+pid=$!
+for _ in $(seq 100); do [ -s "$work/validate.out" ] && break; sleep 0.1; done  # at most 10 s
+kill -KILL "$pid"
+{ wait "$pid"; } 2>/dev/null
+exec 3>&-
+if grep -q 'validate-ok.toml: ok$' "$work/validate.out"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAIL validate lost the ok line of a run it did not finish"; fi
 
 # Limits (docs/scenes.md): refused up front with what was expected, never an out-of-memory crash.
 f=$(scene huge-domain '[domain]
@@ -145,6 +165,18 @@ for f in "$src"/scenes/*.toml; do
     fail=$((fail + 1)); echo "FAIL raw content $name: $(cat "$work/check.txt")"
   fi
 done
+# A camera looking straight down (or up) renders: north is up in the image.
+for look in 0 60; do
+  f=$(scene "top-down-$look" "[camera]
+position = [100.0, 50.0, 30.0]
+look_at = [100.0, 50.0, $look.0]")
+  expect "camera-vertical $look" 0 '' "$houle" render "$f" --frames 1 --size $size --quality draft --raw "$work/top.f32" --pixel-format rgbf32 --quiet
+  if python3 "$src/tests/cli/check_raw.py" "$work/top.f32" 96 54 1 >"$work/check.txt" 2>&1; then
+    pass=$((pass + 1))
+  else
+    fail=$((fail + 1)); echo "FAIL camera-vertical $look content: $(cat "$work/check.txt")"
+  fi
+done
 # Determinism, on every shipped scene (coast.toml is the built-in coast) at the default quality, in linear floats:
 # frames 0:3 in one run equal 0:1 and 2:3 in two (frame 2 rendered first, without the frames before
 # it), and one render thread gives the bytes of two.
@@ -169,6 +201,51 @@ if [ "$out" -eq 20000 ] && grep -q 'rc=0' "$work/rc.txt" && grep -q 'output clos
 else
   fail=$((fail + 1)); echo "FAIL closed pipe: $(cat "$work/rc.txt") $(cat "$work/err.txt")"
 fi
+# SIGTERM and SIGHUP stop a render as Ctrl-C does: after the current frame, "interrupted after N
+# complete frames", exit 128 + the signal. Killed at random times (during the build too, before the
+# handler is in place), a PNG sequence or a raw stream never keeps a temporary file or a partial frame.
+kill_started=0 kill_fail=0
+quick=$(scene quick '[domain]
+x_max = 100.0
+y_max = 100.0
+[floor.base]
+depth = 300.0
+[[trains]]
+period = 5.0')
+for i in $(seq 20); do
+  d="$work/kill$i" sig=TERM code=143
+  [ $((i % 2)) -eq 0 ] && sig=HUP code=129
+  mkdir "$d"
+  if [ "$i" -le 10 ]; then out=(--out "$d/%04d.png"); else out=(--raw "$d/frames.rgb"); fi
+  "$houle" render "$quick" --frames 100000 --size 64x36 --quality draft --quiet "${out[@]}" 2>"$d/err" &
+  pid=$!
+  if [ $((i % 4)) -lt 2 ]; then  # half the kills once frames are coming out (loading OpenImageIO takes a while)
+    for _ in $(seq 100); do [ -n "$(find "$d" -name '*.png' -o -name frames.rgb -size +0)" ] && break; sleep 0.05; done
+  fi
+  sleep "$(printf '0.%02d' $((RANDOM % 20)))"
+  # A frame file (or a temporary one, or raw bytes) means the loop had begun, with the handler in place.
+  started=$(find "$d" -name '*.png*' -o -name frames.rgb -size +0 | wc -l)
+  kill -s "$sig" "$pid"
+  { wait "$pid"; rc=$?; } 2>/dev/null  # without the shell's report of a process the signal ended
+  frames=$(find "$d" -name '*.png' | wc -l)
+  [ -e "$d/frames.rgb" ] && frames=$(($(stat -c %s "$d/frames.rgb") / (64 * 36 * 3)))
+  why=""
+  [ "$rc" -eq "$code" ] || why="exit $rc, want $code"
+  [ -n "$(find "$d" -name '*.tmp*')" ] && why="$why; left $(find "$d" -name '*.tmp*')"
+  [ -e "$d/frames.rgb" ] && [ $(($(stat -c %s "$d/frames.rgb") % (64 * 36 * 3))) -ne 0 ] && why="$why; a partial raw frame"
+  if [ "$started" -gt 0 ]; then
+    kill_started=$((kill_started + 1))
+    grep -q "^houle render: interrupted after $frames complete frames in " "$d/err" || why="$why; want 'interrupted after $frames complete frames', got '$(cat "$d/err")'"
+  fi
+  [ -n "$why" ] && { kill_fail=$((kill_fail + 1)); echo "FAIL SIG$sig during render ${out[0]} (run $i): $why"; }
+done
+# shellcheck disable=SC2046
+python3 "$src/tests/cli/check_png.py" 64 36 $(find "$work"/kill* -name '*.png') >"$work/check.txt" 2>&1 ||
+  { kill_fail=$((kill_fail + 1)); echo "FAIL frames written before a signal: $(cat "$work/check.txt")"; }
+# Half the kills at least land in the frame loop, else the handler went untested.
+[ "$kill_started" -ge 10 ] || { kill_fail=$((kill_fail + 1)); echo "FAIL only $kill_started of 20 kills came after the first frame"; }
+if [ "$kill_fail" -eq 0 ]; then pass=$((pass + 1)); else fail=$((fail + 1)); fi
+
 # houle info: the effect plan and the build's counts, as text and as JSON that parses.
 f=$(scene deep-flat '[domain]
 x_max = 100.0
@@ -207,9 +284,38 @@ fi
 expect probe 0 'train 2: amplitude [0-9.]+ m' "$houle" probe --at 140,90 --at 145,110,2.5
 expect probe-json 0 '"relative_amplitude"' "$houle" probe "$src/scenes/paper_fig4.toml" --at 25,75 --json
 expect probe-bad 2 "probe: --at expects X,Y or X,Y,T" "$houle" probe --at 1
+# Far from the domain float positions no longer hold the waves: refused, and JSON never holds NaN or inf.
+for at in 1e9,0 1e12,0 1e30,0 0,-200001; do
+  expect "probe-far $at" 2 "probe: --at .*: more than 100 km outside the domain" "$houle" probe --at "$at" --json
+done
+if "$houle" probe --at 0,0 --at 100200,-99000,1e6 --json | python3 -c 'import json,math,sys
+def finite(v): return all(finite(x) for x in (v.values() if isinstance(v, dict) else v)) if isinstance(v, (dict, list)) else math.isfinite(v)
+sys.exit(0 if finite(json.load(sys.stdin, parse_constant=lambda c: float(c))) else 1)'; then
+  pass=$((pass + 1))
+else
+  fail=$((fail + 1)); echo "FAIL probe --json near the 100 km limit: not JSON, or not finite"
+fi
 expect bench 0 '^frame +[0-9.]+' "$houle" bench --frames 3 --warmup 1 --size $size --quality draft
 expect bench-json 0 '"p99"' "$houle" bench --frames 2 --warmup 0 --size $size --quality draft --json
 expect unwritable 2 'cannot open for writing' "$houle" render --frames 1 --size $size --raw /nonexistent-dir/x.rgb
+# The output is checked before the scene is built: with a scene the build refuses (limit-memory's),
+# the output's error comes first.
+big=$work/huge-build.toml
+touch "$work/plain"
+# An image sequence's missing folders are made (once the scene is built); one that cannot be is refused before.
+expect early-unmakeable-folder 2 "render: $work/plain/nodir/%04d.png: $work/plain is not a folder" "$houle" render "$big" --frames 1 --out "$work/plain/nodir/%04d.png"
+expect early-raw-folder 2 "cannot open for writing: the folder $work/nodir does not exist" "$houle" render "$big" --frames 1 --raw "$work/nodir/x.rgb"
+expect early-extension 2 'x_%04d.xyz: no image format for this file name' "$houle" render "$big" --frames 1 --out "$work/x_%04d.xyz"
+expect early-not-folder 2 "$work/plain is not a folder" "$houle" render "$big" --frames 1 --out "$work/plain/%04d.png"
+mkdir "$work/ro" && chmod 555 "$work/ro"
+ro=$work/ro
+[ -w "$ro" ] && ro=/proc/1  # root writes into a mode 555 folder, not into a process's /proc folder
+if [ -w "$ro" ]; then
+  echo "skipped early-unwritable: no unwritable folder found for $(id -un)"
+else
+  expect early-unwritable 2 "the folder $ro is not writable" "$houle" render "$big" --frames 1 --out "$ro/%04d.png"
+  expect early-unwritable-raw 2 "cannot open for writing: the folder $ro is not writable" "$houle" render "$big" --frames 1 --raw "$ro/x.rgb"
+fi
 expect bad-size 2 "render: --size expects WxH" "$houle" render --size 0x10
 expect bad-frames 2 "render: --frames expects A:B" "$houle" render --frames 5:2
 expect out-and-raw 2 'render: --out and --raw exclude each other' "$houle" render --out x%d.png --raw -

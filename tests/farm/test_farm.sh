@@ -93,7 +93,7 @@ stat -c '%n %i %Y' frames/*.png | grep -Fxf before.txt | cmp -s - before.txt || 
 ls frames | grep -q tmp && bad "restart left temporary files: $(ls frames | grep tmp)"
 same && ok || bad "restarted frames differ from one render"
 
-# A run stopped by SIGTERM (a cancelled job) ends after its current frame; with --skip-existing a raw
+# A run stopped by SIGTERM (a cancelled job) ends after its current frame (exit 128 + 15); with --skip-existing a raw
 # file is written whole, so none is left, and neither is its temporary file.
 "$houle" render "$scene" --frames 0:99 "${opts[@]}" --realtime --fps 20 --raw stopped.rgb --skip-existing 2>stopped.txt &
 pid=$!
@@ -101,7 +101,7 @@ pid=$!
 until [ -s "$(ls stopped.rgb.tmp* 2>/dev/null | head -n 1)" ] || ! kill -0 $pid 2>/dev/null; do sleep 0.05; done
 kill -TERM $pid
 wait $pid; rc=$?
-if [ $rc -eq 130 ] && grep -q 'interrupted after [0-9]* complete frames.* (not kept' stopped.txt && ! ls stopped.rgb* >/dev/null 2>&1; then
+if [ $rc -eq 143 ] && grep -q 'interrupted after [0-9]* complete frames.* (not kept' stopped.txt && ! ls stopped.rgb* >/dev/null 2>&1; then
   ok
 else
   bad "SIGTERM: exit $rc, $(cat stopped.txt), files: $(ls stopped.rgb* 2>&1)"

@@ -65,11 +65,6 @@ TEST(Camera, RejectsDegenerateInput) {
   p.look_at = p.position;
   EXPECT_FALSE(houle::make_camera(p).ok());
   p = {};
-  p.look_at = {0.0f, 0.0f, -10.0f};  // straight down with the default up hint: roll undefined
-  EXPECT_EQ(houle::make_camera(p).error().field, "camera.up");
-  p.up = {0.0f, 1.0f, 0.0f};
-  EXPECT_TRUE(houle::make_camera(p).ok());
-  p = {};
   p.vertical_fov = 3.2f;
   EXPECT_FALSE(houle::make_camera(p).ok());
   p = {};
@@ -78,6 +73,28 @@ TEST(Camera, RejectsDegenerateInput) {
   p = {};
   p.position[0] = NAN;
   EXPECT_FALSE(houle::make_camera(p).ok());
+}
+
+// Straight down or up the default hint (z) is the view axis: north is up in the image, as on a map;
+// a hint along a horizontal view falls back to z.
+TEST(Camera, AnUpHintAlongTheViewFallsBackToZThenNorth) {
+  houle::CameraParams p;
+  p.position = {100.0f, 50.0f, 30.0f};
+  p.look_at = {100.0f, 50.0f, 0.0f};
+  auto cam = houle::make_camera(p);
+  ASSERT_TRUE(cam.ok());
+  EXPECT_NEAR(cam.value().up[1], 1.0f, 1e-7f);
+  EXPECT_NEAR(cam.value().right[0], 1.0f, 1e-7f);  // east to the right, as on a map
+  p.look_at = {100.0f, 50.0f, 60.0f};  // straight up
+  cam = houle::make_camera(p);
+  ASSERT_TRUE(cam.ok());
+  EXPECT_NEAR(cam.value().up[1], 1.0f, 1e-7f);
+  p.look_at = {200.0f, 50.0f, 30.0f};  // east, with an up hint pointing east
+  p.up = {1.0f, 0.0f, 0.0f};
+  cam = houle::make_camera(p);
+  ASSERT_TRUE(cam.ok());
+  EXPECT_NEAR(cam.value().up[2], 1.0f, 1e-7f);
+  for (const auto& v : {cam.value().forward, cam.value().right, cam.value().up}) EXPECT_NEAR(dot(v, v), 1.0, 1e-6);
 }
 
 }  // namespace

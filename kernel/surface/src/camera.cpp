@@ -33,10 +33,16 @@ Expected<Camera> make_camera(const CameraParams& p) {
   const double fn = norm(f);
   if (!(fn > 0.0)) return Error{"camera.look_at", "a point different from the camera position"};
   for (double& c : f) c /= fn;
-  Vec r = cross(f, to_double(p.up));
-  const double rn = norm(r);
-  // An up hint within ~0.06 degrees of the view direction leaves the image's roll undefined.
-  if (!(rn > 1e-6 * norm(to_double(p.up)))) return Error{"camera.up", "a direction not parallel to the view direction"};
+  // An up hint within ~0.06 degrees of the view direction leaves the image's roll undefined: then z
+  // is up in the image, or north for a camera looking straight down or up (as on a map). One of
+  // them is at least 45 degrees off any view direction parallel to the other.
+  Vec r{};
+  double rn = 0.0;
+  for (const Vec& hint : {to_double(p.up), Vec{0.0, 0.0, 1.0}, Vec{0.0, 1.0, 0.0}}) {
+    r = cross(f, hint);
+    rn = norm(r);
+    if (rn > 1e-6 * norm(hint)) break;
+  }
   for (double& c : r) c /= rn;
   const Vec u = cross(r, f);
   Camera cam;

@@ -36,8 +36,8 @@ struct Camera {
   float pixel_angle = 0.0f;
 };
 
-/// Fails on a non-finite input, a look_at equal to the position, an up hint parallel to the view
-/// direction, a field of view outside (0, pi) or an empty image.
+/// Fails on a non-finite input, a look_at equal to the position, a field of view outside (0, pi) or
+/// an empty image. An up hint parallel to the view direction falls back to z, then to north (y).
 Expected<Camera> make_camera(const CameraParams& params);
 
 /// Unit direction through image point (image_x, image_y) (pixel units, see above).
