@@ -36,8 +36,6 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
   }
   long frames = 100, warmup = 5;
   int width = 640, height = 360;
-  unsigned threads = default_threads();
-  QualityPreset quality = QualityPreset::realtime;
   if (auto v = args.value("--frames")) {
     const auto n = parse_int(*v);
     if (!n || *n < 1 || *n > 10'000'000) args.fail("--frames expects a count in 1..10000000, got '" + *v + "'");
@@ -53,20 +51,15 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
     if (!s) args.fail(std::string("--size expects ") + size_expected + ", got '" + *v + "'");
     else width = s->first, height = s->second;
   }
-  take_quality(args, quality);
-  take_threads(args, threads);
   const bool json = args.flag("--json");
-  const std::vector<std::string> positionals = args.rest();
-  if (args.failed()) {
-    std::fprintf(stderr, "houle %s\n", args.error().message.c_str());
-    return 2;
-  }
-  const std::optional<Scene> scene = scene_from_args(positionals, "bench");
-  if (!scene) return 2;
-  Expected<Animation> anim = Animation::create(*scene, quality_preset(quality), std::uint32_t(width),
+  const std::optional<SceneRun> run = take_scene_run(args, "bench");
+  if (!run) return 2;
+  const QualityPreset quality = run->quality;
+  const unsigned threads = run->threads;
+  Expected<Animation> anim = Animation::create(run->scene, quality_preset(quality), std::uint32_t(width),
                                                std::uint32_t(height), threads);
   if (!anim) {
-    std::fprintf(stderr, "houle bench: %s: %s: %s\n", scene_name(positionals).c_str(), anim.error().field.c_str(),
+    std::fprintf(stderr, "houle bench: %s: %s: %s\n", run->name.c_str(), anim.error().field.c_str(),
                  anim.error().message.c_str());
     return 2;
   }
@@ -92,7 +85,7 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
   if (json) {
     std::printf("{\"scene\": \"%s\", \"size\": [%d, %d], \"quality\": \"%s\", \"threads\": %u, \"isa\": \"%s\", \"frames\": %ld, "
                 "\"build_ms\": %.3f, \"stages_ms\": {",
-                scene_name(positionals).c_str(), width, height,
+                run->name.c_str(), width, height,
                 quality_name(quality).data(), threads, isa, frames, anim->build_ms());
     for (std::size_t i = 0; i < std::size(rows); ++i) {
       const Distribution& d = rows[i].second;
@@ -102,7 +95,7 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
     std::printf("}}\n");
   } else {
     std::printf("%s, %dx%d, %s, %u threads, ISA %s: %ld frames after %ld warm-up; scene build %.1f ms\n",
-                scene_name(positionals).c_str(), width, height,
+                run->name.c_str(), width, height,
                 quality_name(quality).data(), threads, isa, frames, warmup, anim->build_ms());
     std::printf("%-10s %9s %9s %9s %9s   (ms)\n", "stage", "median", "p90", "p99", "max");
     for (const auto& [name, d] : rows) std::printf("%-10s %9.2f %9.2f %9.2f %9.2f\n", name, d.median, d.p90, d.p99, d.max);

@@ -75,19 +75,12 @@ the memory the rays and the resampled sea hold, and the scene build time (tracin
 N threads, default the machine's hardware threads). --json prints the same facts as one JSON object.)");
     return 0;
   }
-  QualityPreset quality = QualityPreset::realtime;
-  unsigned threads = default_threads();
-  take_quality(args, quality);
-  take_threads(args, threads);
   const bool json = args.flag("--json");
-  const std::vector<std::string> positionals = args.rest();
-  if (args.failed()) {
-    std::fprintf(stderr, "houle %s\n", args.error().message.c_str());
-    return 2;
-  }
-  const std::optional<Scene> scene = scene_from_args(positionals, "info");
-  if (!scene) return 2;
-  const Scene& s = *scene;
+  const std::optional<SceneRun> run = take_scene_run(args, "info");
+  if (!run) return 2;
+  const Scene& s = run->scene;
+  const QualityPreset quality = run->quality;
+  const unsigned threads = run->threads;
   const Quality q = quality_preset(quality);
   const EffectPlan plan = plan_effects(s, q);
 
@@ -112,7 +105,7 @@ N threads, default the machine's hardware threads). --json prints the same facts
     sea_memory += bytes(f.phi) + bytes(f.amplitude) + bytes(f.kx) + bytes(f.ky) + bytes(f.fold) + bytes(f.lean);
   }
   const DwtStats& st = field->stats;
-  const std::string name = positionals.empty() ? "built-in coast" : positionals[0];
+  const std::string& name = run->name;
 
   if (json) {
     std::printf("{\"scene\": %s, \"quality\": \"%s\", \"threads\": %u,\n", json_string(name).c_str(),

@@ -20,6 +20,23 @@ std::optional<Scene> scene_from_args(const std::vector<std::string>& positionals
   return std::move(scene.value());
 }
 
+std::optional<SceneRun> take_scene_run(Args& args, const char* command) {
+  SceneRun run;
+  run.threads = default_threads();
+  take_quality(args, run.quality);
+  take_threads(args, run.threads);
+  const std::vector<std::string> positionals = args.rest();
+  if (args.failed()) {
+    std::fprintf(stderr, "houle %s\n", args.error().message.c_str());
+    return std::nullopt;
+  }
+  std::optional<Scene> scene = scene_from_args(positionals, command);
+  if (!scene) return std::nullopt;
+  run.scene = std::move(*scene);
+  run.name = scene_name(positionals);
+  return run;
+}
+
 std::string scene_name(const std::vector<std::string>& positionals) {
   return positionals.empty() ? "built-in coast" : positionals[0];
 }
