@@ -1819,13 +1819,17 @@ Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& sett
     if (!p) return p.error();
     lane = std::move(p.value());
   }
-  pool.value()->for_ranges(n, 1, [&](std::size_t i, std::size_t, unsigned worker) {
-    if (s.dwt.analytic_shortcut && !train_needs_rays(s, i)) {
-      incident[i] = detail::analytic_rays(s, i);
-      return;
+  // Worker w traces trains w, w + workers, ...: the first train (in the shipped scenes the longest
+  // waves, the most work) and the last share a worker only when there are more trains than workers.
+  pool.value()->for_ranges(workers, 1, [&](std::size_t first, std::size_t, unsigned lane) {
+    for (std::size_t i = first; i < n; i += workers) {
+      if (s.dwt.analytic_shortcut && !train_needs_rays(s, i)) {
+        incident[i] = detail::analytic_rays(s, i);
+        continue;
+      }
+      detail::TrainTracer tracer(s, i, s.dwt, second_lanes[lane].get());
+      incident[i] = reflects ? tracer.run_reflecting(stats[i], reflected[i], reflected_stats[i]) : tracer.run(stats[i]);
     }
-    detail::TrainTracer tracer(s, i, s.dwt, second_lanes[worker].get());
-    incident[i] = reflects ? tracer.run_reflecting(stats[i], reflected[i], reflected_stats[i]) : tracer.run(stats[i]);
   });
   WaveField field;
   for (std::size_t i = 0; i < n; ++i) {
