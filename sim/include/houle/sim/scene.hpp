@@ -245,7 +245,7 @@ double train_omega(const WaveTrain& train) noexcept;
 /// zero or non-finite vector.
 Point2 train_direction(const WaveTrain& train) noexcept;
 
-/// The built-in coast: a 1:40 sloping beach, a jetty with a pierhead in the water, three trains from
+/// The built-in coast: a 1:30 sloping beach, a jetty with a pierhead in the water, three trains from
 /// the sea, capillary ripples and two submerged rocks. Valid by construction.
 Scene builtin_coast();
 
