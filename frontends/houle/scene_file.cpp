@@ -261,8 +261,8 @@ void read_height_map(Reader& r, SeaFloor& floor, Context& ctx) {
   HeightMapFile file;
   read_keys(r, scene_keys::height_map, file, ctx);
   if (ctx.error) return;
-  if (auto e = scene_keys::check_keys(scene_keys::height_map, file, std::string(scene_keys::height_map.path))) {
-    ctx.fail(ctx.place(e->field), e->field, e->message);
+  if (auto e = scene_keys::check_keys(scene_keys::height_map, file, std::string(scene_keys::height_map.path)); !e) {
+    ctx.fail(ctx.place(e.error().field), e.error().field, e.error().message);
     return;
   }
   Expected<HeightMap> map = load_height_map((std::filesystem::path(ctx.dir) / file.file).string(), file);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -26,18 +25,16 @@ Error bad(std::string field, const std::string& expected, double got) {
   return Error{std::move(field), expected + ", got " + num(got)};
 }
 
-// A null optional means the check passed.
-using Check = std::optional<Error>;
 
 // Every key's range (scene_keys.hpp), item by item; the checks below assume these passed.
-Check check_key_ranges(Scene& s) {
-  Check first;
+Expected<void> check_key_ranges(Scene& s) {
+  Expected<void> first;
   scene_keys::for_each_section([&]<class S>(const scene_keys::Section<S>& section) {
-    if (first) return;
+    if (!first) return;
     if (section.table_in) first = scene_keys::check_keys(section, section.table_in(s), std::string(section.path));
     if (!section.array_in) return;
     const std::vector<S>& items = section.array_in(s);
-    for (std::size_t i = 0; i < items.size() && !first; ++i) first = scene_keys::check_keys(section, items[i], at(section.path, i));
+    for (std::size_t i = 0; i < items.size() && first; ++i) first = scene_keys::check_keys(section, items[i], at(section.path, i));
   });
   return first;
 }
@@ -49,7 +46,7 @@ bool segment_meets_rect(Point2 a, Point2 b, const Domain& d, double margin) noex
   return detail::clip_line(grown, a.x, a.y, b.x - a.x, b.y - a.y, t0, t1) && t0 <= 1.0 && t1 >= 0.0;
 }
 
-Check check_domain(const Domain& d) {
+Expected<void> check_domain(const Domain& d) {
   if (!(d.x_max > d.x_min)) return bad("domain.x_max", "a value > x_min = " + num(d.x_min) + " m", d.x_max);
   if (!(d.y_max > d.y_min)) return bad("domain.y_max", "a value > y_min = " + num(d.y_min) + " m", d.y_max);
   const std::string side = "a side of at most " + num(scene_limits::max_domain_side) + " m, got ";
@@ -64,7 +61,7 @@ Check check_domain(const Domain& d) {
 }
 
 // Counts that bound the scene build's memory and time (docs/scenes.md, "Limits").
-Check check_counts(const Scene& s) {
+Expected<void> check_counts(const Scene& s) {
   const std::pair<const char*, std::size_t> counts[] = {
       {"floor.shoals", s.floor.shoals.size()}, {"floor.bars", s.floor.bars.size()},
       {"floor.channels", s.floor.channels.size()}, {"walls", s.walls.size()},
@@ -83,15 +80,15 @@ Check check_counts(const Scene& s) {
 }
 
 // A height map holds three keys of [floor.height_map]; its samples replace the others.
-Check check_height_map(const HeightMap& m) {
+Expected<void> check_height_map(const HeightMap& m) {
   if (m.nx < 2) return bad("floor.height_map.nx", "at least 2 samples", m.nx);
   if (m.ny < 2) return bad("floor.height_map.ny", "at least 2 samples", m.ny);
   const auto& origin = scene_keys::key(scene_keys::height_map, "origin");
   const auto& cell = scene_keys::key(scene_keys::height_map, "cell");
   const auto& mode = scene_keys::key(scene_keys::height_map, "mode");
-  if (auto e = scene_keys::check_value(m.origin, origin.range, origin.unit, "floor.height_map.origin")) return e;
-  if (auto e = scene_keys::check_value(m.cell, cell.range, cell.unit, "floor.height_map.cell")) return e;
-  if (auto e = scene_keys::check_choice(int(m.mode), mode.choices, "floor.height_map.mode")) return e;
+  if (auto e = scene_keys::check_value(m.origin, origin.range, origin.unit, "floor.height_map.origin"); !e) return e;
+  if (auto e = scene_keys::check_value(m.cell, cell.range, cell.unit, "floor.height_map.cell"); !e) return e;
+  if (auto e = scene_keys::check_choice(int(m.mode), mode.choices, "floor.height_map.mode"); !e) return e;
   const std::uint64_t expected = std::uint64_t(m.nx) * m.ny;
   if (m.depth.size() != expected) {
     return Error{"floor.height_map.depth", "nx * ny = " + std::to_string(expected) + " values, got " +
@@ -103,7 +100,7 @@ Check check_height_map(const HeightMap& m) {
   return {};
 }
 
-Check check_walls(const std::vector<Wall>& walls, const Domain& d) {
+Expected<void> check_walls(const std::vector<Wall>& walls, const Domain& d) {
   for (std::size_t i = 0; i < walls.size(); ++i) {
     const Wall& w = walls[i];
     const std::string p = at("walls", i) + ".points";
@@ -120,7 +117,7 @@ Check check_walls(const std::vector<Wall>& walls, const Domain& d) {
   return {};
 }
 
-Check check_trains(const std::vector<WaveTrain>& trains) {
+Expected<void> check_trains(const std::vector<WaveTrain>& trains) {
   for (std::size_t i = 0; i < trains.size(); ++i) {
     const WaveTrain& t = trains[i];
     const std::string p = at("trains", i);
@@ -140,7 +137,7 @@ Check check_trains(const std::vector<WaveTrain>& trains) {
   return {};
 }
 
-Check check_camera(const Scene& s) {
+Expected<void> check_camera(const Scene& s) {
   const ViewCamera& cam = s.camera;
   if (cam.position.x == cam.look_at.x && cam.position.y == cam.look_at.y && cam.position.z == cam.look_at.z) {
     return Error{"camera.look_at", "a point different from camera.position"};
@@ -152,7 +149,7 @@ Check check_camera(const Scene& s) {
   return {};
 }
 
-Check check_dwt(const DwtSettings& d) {
+Expected<void> check_dwt(const DwtSettings& d) {
   if (d.initial_rays == 1) return bad("dwt.initial_rays", "0 (automatic) or at least 2", 1.0);
   if (d.max_rays < d.initial_rays) {
     return bad("dwt.max_rays", "at least initial_rays = " + std::to_string(d.initial_rays), d.max_rays);
@@ -185,16 +182,16 @@ Point2 train_direction(const WaveTrain& t) noexcept {
 }
 
 Expected<Scene> validate(Scene scene) {
-  if (auto e = check_counts(scene)) return *e;
-  if (auto e = check_key_ranges(scene)) return *e;
-  if (auto e = check_domain(scene.domain)) return *e;
+  if (auto e = check_counts(scene); !e) return e.error();
+  if (auto e = check_key_ranges(scene); !e) return e.error();
+  if (auto e = check_domain(scene.domain); !e) return e.error();
   if (scene.floor.height_map) {
-    if (auto e = check_height_map(*scene.floor.height_map)) return *e;
+    if (auto e = check_height_map(*scene.floor.height_map); !e) return e.error();
   }
-  if (auto e = check_walls(scene.walls, scene.domain)) return *e;
-  if (auto e = check_trains(scene.trains)) return *e;
-  if (auto e = check_camera(scene)) return *e;
-  if (auto e = check_dwt(scene.dwt)) return *e;
+  if (auto e = check_walls(scene.walls, scene.domain); !e) return e.error();
+  if (auto e = check_trains(scene.trains); !e) return e.error();
+  if (auto e = check_camera(scene); !e) return e.error();
+  if (auto e = check_dwt(scene.dwt); !e) return e.error();
   return scene;
 }
 

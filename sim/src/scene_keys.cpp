@@ -48,7 +48,7 @@ Error bad(const std::string& field, const std::string& expected, const std::stri
   return Error{field, expected + ", got " + got};
 }
 
-std::optional<Error> check_coordinates(std::span<const double> v, const Range& range, std::string_view unit,
+Expected<void> check_coordinates(std::span<const double> v, const Range& range, std::string_view unit,
                                        const std::string& field) {
   static constexpr const char* axis[] = {".x", ".y", ".z"};
   for (std::size_t i = 0; i < v.size(); ++i) {
@@ -61,60 +61,60 @@ std::optional<Error> check_coordinates(std::span<const double> v, const Range& r
     }
     return bad(field + axis[i], expected_number(range, unit), number_text(v[i]));
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace
 
-std::optional<Error> check_value(double v, const Range& range, std::string_view unit, const std::string& field) {
-  if (range.contains(v)) return std::nullopt;
+Expected<void> check_value(double v, const Range& range, std::string_view unit, const std::string& field) {
+  if (range.contains(v)) return {};
   return bad(field, expected_number(range, unit), number_text(v));
 }
 
-std::optional<Error> check_value(const std::optional<double>& v, const Range& range, std::string_view unit,
+Expected<void> check_value(const std::optional<double>& v, const Range& range, std::string_view unit,
                                  const std::string& field) {
-  return v ? check_value(*v, range, unit, field) : std::nullopt;
+  return v ? check_value(*v, range, unit, field) : Expected<void>{};
 }
 
-std::optional<Error> check_value(std::int64_t v, const Range& range, std::string_view, const std::string& field) {
-  if (!range.bounded() || range.contains(double(v))) return std::nullopt;
+Expected<void> check_value(std::int64_t v, const Range& range, std::string_view, const std::string& field) {
+  if (!range.bounded() || range.contains(double(v))) return {};
   return bad(field, "a count in " + describe(range), std::to_string(v));
 }
 
-std::optional<Error> check_value(Point2 v, const Range& range, std::string_view unit, const std::string& field) {
+Expected<void> check_value(Point2 v, const Range& range, std::string_view unit, const std::string& field) {
   const double c[] = {v.x, v.y};
   return check_coordinates(c, range, unit, field);
 }
 
-std::optional<Error> check_value(const std::optional<Point2>& v, const Range& range, std::string_view unit,
+Expected<void> check_value(const std::optional<Point2>& v, const Range& range, std::string_view unit,
                                  const std::string& field) {
-  return v ? check_value(*v, range, unit, field) : std::nullopt;
+  return v ? check_value(*v, range, unit, field) : Expected<void>{};
 }
 
-std::optional<Error> check_value(Point3 v, const Range& range, std::string_view unit, const std::string& field) {
+Expected<void> check_value(Point3 v, const Range& range, std::string_view unit, const std::string& field) {
   const double c[] = {v.x, v.y, v.z};
   return check_coordinates(c, range, unit, field);
 }
 
-std::optional<Error> check_value(LinearRgb v, const Range& range, std::string_view, const std::string& field) {
+Expected<void> check_value(LinearRgb v, const Range& range, std::string_view, const std::string& field) {
   for (float c : {v.r, v.g, v.b}) {
     if (!range.contains(c)) return bad(field, "linear RGB components in " + describe(range), number_text(c));
   }
-  return std::nullopt;
+  return {};
 }
 
-std::optional<Error> check_value(const std::vector<Point2>& v, const Range& range, std::string_view unit,
+Expected<void> check_value(const std::vector<Point2>& v, const Range& range, std::string_view unit,
                                  const std::string& field) {
   for (std::size_t i = 0; i < v.size(); ++i) {
-    if (auto e = check_value(v[i], range, unit, field + "[" + std::to_string(i) + "]")) return e;
+    if (auto e = check_value(v[i], range, unit, field + "[" + std::to_string(i) + "]"); !e) return e;
   }
-  return std::nullopt;
+  return {};
 }
 
-std::optional<Error> check_choice(int v, std::span<const Choice> choices, const std::string& field) {
+Expected<void> check_choice(int v, std::span<const Choice> choices, const std::string& field) {
   std::string names;
   for (const Choice& c : choices) {
-    if (c.value == v) return std::nullopt;
+    if (c.value == v) return {};
     names += (names.empty() ? "one of \"" : ", \"") + std::string(c.name) + "\"";
   }
   return bad(field, names, std::to_string(v));

@@ -7,11 +7,11 @@
 #include <optional>
 #include <string>
 
-#include "houle/runtime/assert.hpp"
 #include "houle/render/optics.hpp"
 #include "houle/render/sky.hpp"
-#include "scene_objects.hpp"
+#include "houle/runtime/assert.hpp"
 #include "houle/runtime/thread_pool.hpp"
+#include "scene_objects.hpp"
 
 namespace houle {
 namespace {

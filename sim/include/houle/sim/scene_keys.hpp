@@ -144,28 +144,28 @@ const Key<S>& key(const Section<S>& section, std::string_view name) {
 }
 
 // The range check of one value, named `field` in the error.
-std::optional<Error> check_value(double v, const Range& range, std::string_view unit, const std::string& field);
-std::optional<Error> check_value(const std::optional<double>& v, const Range& range, std::string_view unit,
+Expected<void> check_value(double v, const Range& range, std::string_view unit, const std::string& field);
+Expected<void> check_value(const std::optional<double>& v, const Range& range, std::string_view unit,
                                  const std::string& field);
-std::optional<Error> check_value(std::int64_t v, const Range& range, std::string_view unit, const std::string& field);
-std::optional<Error> check_value(Point2 v, const Range& range, std::string_view unit, const std::string& field);
-std::optional<Error> check_value(const std::optional<Point2>& v, const Range& range, std::string_view unit,
+Expected<void> check_value(std::int64_t v, const Range& range, std::string_view unit, const std::string& field);
+Expected<void> check_value(Point2 v, const Range& range, std::string_view unit, const std::string& field);
+Expected<void> check_value(const std::optional<Point2>& v, const Range& range, std::string_view unit,
                                  const std::string& field);
-std::optional<Error> check_value(Point3 v, const Range& range, std::string_view unit, const std::string& field);
-std::optional<Error> check_value(LinearRgb v, const Range& range, std::string_view unit, const std::string& field);
-std::optional<Error> check_value(const std::vector<Point2>& v, const Range& range, std::string_view unit,
+Expected<void> check_value(Point3 v, const Range& range, std::string_view unit, const std::string& field);
+Expected<void> check_value(LinearRgb v, const Range& range, std::string_view unit, const std::string& field);
+Expected<void> check_value(const std::vector<Point2>& v, const Range& range, std::string_view unit,
                                  const std::string& field);
-std::optional<Error> check_choice(int v, std::span<const Choice> choices, const std::string& field);
+Expected<void> check_choice(int v, std::span<const Choice> choices, const std::string& field);
 
-/// The first key of `item` outside its range (or not one of its choices), named "<path>.<key>"; null
+/// The first key of `item` outside its range (or not one of its choices), named "<path>.<key>"; success
 /// when every key is in range.
 template <class S>
-std::optional<Error> check_keys(const Section<S>& section, const S& item, const std::string& path) {
+Expected<void> check_keys(const Section<S>& section, const S& item, const std::string& path) {
   for (const Key<S>& k : section.keys) {
     if (k.applies && !k.applies(item)) continue;
     const std::string field = path + "." + std::string(k.name);
-    const std::optional<Error> e = std::visit(
-        [&](auto member) -> std::optional<Error> {
+    const Expected<void> e = std::visit(
+        [&](auto member) -> Expected<void> {
           const auto& v = item.*member;
           using T = std::remove_cvref_t<decltype(v)>;
           if constexpr (std::is_enum_v<T>) {
@@ -173,15 +173,15 @@ std::optional<Error> check_keys(const Section<S>& section, const S& item, const 
           } else if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
             return check_value(std::int64_t(v), k.range, k.unit, field);
           } else if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::string>) {
-            return std::nullopt;
+            return {};
           } else {
             return check_value(v, k.range, k.unit, field);
           }
         },
         k.member);
-    if (e) return e;
+    if (!e) return e;
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace scene_keys
