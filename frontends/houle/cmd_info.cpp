@@ -102,7 +102,7 @@ N threads, default the machine's hardware threads). --json prints the same facts
   for (const WaveRays& w : field->trains) rays_memory += ray_bytes(w);
   for (const ReflectedWave& r : field->reflections) rays_memory += ray_bytes(r.rays);
   for (const TrainField& f : sea->trains()) {
-    sea_memory += bytes(f.phi) + bytes(f.amplitude) + bytes(f.kx) + bytes(f.ky) + bytes(f.fold) + bytes(f.lean);
+    sea_memory += bytes(f.phi) + bytes(f.b_re) + bytes(f.b_im) + bytes(f.kx) + bytes(f.ky) + bytes(f.fold) + bytes(f.lean);
   }
   const DwtStats& st = field->stats;
   const std::string& name = run->name;

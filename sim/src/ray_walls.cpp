@@ -11,14 +11,6 @@ constexpr double touch_tolerance = 1e-9;  // m: closer than radius - this is ins
 
 double clamp01(double v) noexcept { return std::clamp(v, 0.0, 1.0); }
 
-// Squared distance from point p to segment [a, b].
-double point_segment_dist2(double px, double py, const Capsule& c) noexcept {
-  const double ex = c.bx - c.ax, ey = c.by - c.ay;
-  const double len2 = ex * ex + ey * ey;
-  const double t = len2 > 0.0 ? clamp01(((px - c.ax) * ex + (py - c.ay) * ey) / len2) : 0.0;
-  const double dx = px - (c.ax + t * ex), dy = py - (c.ay + t * ey);
-  return dx * dx + dy * dy;
-}
 
 // Closest points of segments p0 + u d (u in [0,1]) and a + t e (t in [0,1]) (Ericson, Real-Time
 // Collision Detection 5.1.9). Returns u; dist2 receives the squared distance.
@@ -74,6 +66,13 @@ double capsule_entry(double x0, double y0, double x1, double y1, const Capsule& 
 
 }  // namespace
 
+double point_segment_dist2(double px, double py, const Capsule& c) noexcept {
+  const double ex = c.bx - c.ax, ey = c.by - c.ay;
+  const double len2 = ex * ex + ey * ey;
+  const double t = len2 > 0.0 ? clamp01(((px - c.ax) * ex + (py - c.ay) * ey) / len2) : 0.0;
+  const double dx = px - (c.ax + t * ex), dy = py - (c.ay + t * ey);
+  return dx * dx + dy * dy;
+}
 std::vector<Capsule> wall_capsules(const std::vector<Wall>& walls) {
   std::vector<Capsule> out;
   for (std::size_t w = 0; w < walls.size(); ++w) {

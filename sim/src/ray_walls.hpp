@@ -24,6 +24,9 @@ struct WallHit {
   std::uint32_t wall = 0;
 };
 
+/// Squared distance from (px, py) to the capsule's segment.
+double point_segment_dist2(double px, double py, const Capsule& c) noexcept;
+
 /// Every wall segment of a scene as a capsule.
 std::vector<Capsule> wall_capsules(const std::vector<Wall>& walls);
 

@@ -2,34 +2,36 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <string>
 
 #include "houle/runtime/assert.hpp"
 #include "houle/sim/bathymetry.hpp"
+#include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
+#include "ray_walls.hpp"
 
 namespace houle {
 namespace {
 
-constexpr double two_pi = 2.0 * std::numbers::pi;
+using cplx = std::complex<double>;
+constexpr double pi = std::numbers::pi;
+constexpr double two_pi = 2.0 * pi;
 // sqrt(Q^2 + L^2) stays below this so that the first-order trochoid never folds (docs/physics.md 3.1: J > 0).
 constexpr double max_fold = 0.9;
 // Depth used where the floor is at or above still water (the wave is gone there anyway): keeps the
 // dispersion relation and coth(kh) finite.
 constexpr double min_depth = 1e-3;
+// Splat weights below this count as no sample.
+constexpr double min_weight = 1e-9;
 
-/// Fold and lean of a train of steepness q, wavenumber k and amplitude a over depth h (sea_surface.hpp).
-void shape(double q, double k, double a, double h, float& fold, float& lean) {
+/// Fold and lean per metre of amplitude of a train of steepness q and wavenumber k over depth h
+/// (train_grid.hpp: Q = q k A coth kh, L = Q e^{-kh}).
+void shape(double q, double k, double h, double& fold, double& lean) {
   const double kh = k * std::max(h, min_depth);
-  double f = q * k * a / std::tanh(kh), l = f * std::exp(-kh);
-  const double norm = std::hypot(f, l);
-  if (norm > max_fold) {
-    f *= max_fold / norm;
-    l *= max_fold / norm;
-  }
-  fold = float(f);
-  lean = float(l);
+  fold = q * k / std::tanh(kh);
+  lean = fold * std::exp(-kh);
 }
 
 // Straight crests upstream of the domain, in the tracer's convention: phase 0 on the wavefront
@@ -51,59 +53,222 @@ void set_far_field(TrainGrid& g, const Scene& scene, const WaveRays& rays, doubl
   g.far_kx = float(k * rays.direction_x);
   g.far_ky = float(k * rays.direction_y);
   g.far_amplitude = float(a);
-  shape(steepness, k, a, h, g.far_fold, g.far_lean);
+  double fold, lean;
+  shape(steepness, k, h, fold, lean);
+  const double norm = std::hypot(fold, lean) * a;
+  const double scale = norm > max_fold ? max_fold / norm : 1.0;
+  g.far_fold = float(fold * scale);
+  g.far_lean = float(lean * scale);
   g.far_offset = k * upstream - rays.phase0;
 }
 
-// Tent-splat every ray sample onto the grid; nodes no sample reached keep amplitude 0.
-void splat(TrainField& f, TrainGrid& g, const WaveRays& rays, const Bathymetry& floor, double steepness, double radius) {
-  const std::size_t nodes = std::size_t(g.nx) * g.ny;
-  std::vector<double> w(nodes, 0.0), phi(nodes, 0.0), amp(nodes, 0.0), kx(nodes, 0.0), ky(nodes, 0.0);
-  const bool diffracts = !rays.diffraction.empty();
-  std::vector<double> kd(diffracts ? nodes : 0, 0.0);
-  const int reach = int(std::ceil(radius / g.cell));
-  for (std::size_t s = 0; s < rays.sample_count(); ++s) {
-    const double gx = (rays.x[s] - g.origin_x) / g.cell, gy = (rays.y[s] - g.origin_y) / g.cell;
-    const int ci = int(std::floor(gx)), cj = int(std::floor(gy));
-    const double kxs = rays.k[s] * std::cos(rays.theta[s]), kys = rays.k[s] * std::sin(rays.theta[s]);
-    for (int j = std::max(0, cj - reach + 1); j <= std::min(int(g.ny) - 1, cj + reach); ++j) {
-      const double wy = 1.0 - std::fabs(j - gy) * g.cell / radius;
-      if (wy <= 0.0) continue;
-      for (int i = std::max(0, ci - reach + 1); i <= std::min(int(g.nx) - 1, ci + reach); ++i) {
-        const double wx = 1.0 - std::fabs(i - gx) * g.cell / radius;
-        if (wx <= 0.0) continue;
-        const std::size_t n = std::size_t(j) * g.nx + std::size_t(i);
-        const double ww = wx * wy;
-        w[n] += ww;
-        phi[n] += ww * rays.phase[s];
-        amp[n] += ww * rays.amplitude[s];
-        kx[n] += ww * kxs;
-        ky[n] += ww * kys;
-        if (diffracts) kd[n] += ww * double(rays.diffraction[s]);
+struct GridGeometry {
+  double x0, y0, cell;
+  std::size_t nx, ny;
+  double x(std::size_t n) const noexcept { return x0 + double(n % nx) * cell; }
+  double y(std::size_t n) const noexcept { return y0 + double(n / nx) * cell; }
+};
+
+/// One ray family (a set of rays that never overlap one another: the incident rays of a train, or a
+/// reflected wave) resampled onto the grid. Each sample is extrapolated to the node along its wave
+/// vector and tent-weighted; the complex amplitude is kept relative to the far field's phase psi at
+/// the node (any continuous reference would do) so that samples of different phases add as waves.
+/// Normalised per family: where a family's rays thin out, its amplitude does not fade. A sample does
+/// not reach nodes across a wall (the two faces of a thin wall see different waves).
+struct FamilyField {
+  std::vector<double> weight, phase, re, im, kx, ky;
+
+  template <class Keep>
+  void splat(const GridGeometry& g, const TrainGrid& far, const WaveRays& rays, Keep&& keep, double radius,
+             const std::vector<detail::Capsule>& walls) {
+    const std::size_t nodes = g.nx * g.ny;
+    for (std::vector<double>* v : {&weight, &phase, &re, &im, &kx, &ky}) v->assign(nodes, 0.0);
+    const int reach = int(std::ceil(radius / g.cell));
+    const double fkx = far.far_kx, fky = far.far_ky;
+    double wall_radius = 0.0;
+    for (const detail::Capsule& c : walls) wall_radius = std::max(wall_radius, c.radius);
+    const double near_wall = radius + g.cell + wall_radius;
+    for (std::size_t r = 0; r < rays.ray_count(); ++r) {
+      if (!keep(r)) continue;
+      for (std::size_t s = rays.sample_begin[r]; s < rays.sample_begin[r + 1]; ++s) {
+        const double sx = rays.x[s], sy = rays.y[s];
+        const bool check_walls = std::any_of(walls.begin(), walls.end(), [&](const detail::Capsule& c) {
+          return detail::point_segment_dist2(sx, sy, c) < near_wall * near_wall;
+        });
+        const double gx = (sx - g.x0) / g.cell, gy = (sy - g.y0) / g.cell;
+        const int ci = int(std::floor(gx)), cj = int(std::floor(gy));
+        const int i0 = std::max(0, ci - reach + 1), i1 = std::min(int(g.nx) - 1, ci + reach);
+        const int j0 = std::max(0, cj - reach + 1), j1 = std::min(int(g.ny) - 1, cj + reach);
+        if (i0 > i1 || j0 > j1) continue;
+        const double ksx = rays.k[s] * std::cos(rays.theta[s]), ksy = rays.k[s] * std::sin(rays.theta[s]);
+        // Geometric-optics amplitude: the tracer's K' (near shadow lines) is replaced by the exact
+        // diffracted field below.
+        double a = rays.amplitude[s];
+        if (!rays.diffraction.empty() && rays.diffraction[s] > 0.0f) a /= double(rays.diffraction[s]);
+        // Phase at node (i0, j0) relative to psi there, and its steps per node along x and y.
+        const double nx0 = g.x0 + i0 * g.cell, ny0 = g.y0 + j0 * g.cell;
+        const double phi0 = rays.phase[s] + ksx * (nx0 - sx) + ksy * (ny0 - sy);
+        const double rel0 = phi0 - (fkx * nx0 + fky * ny0 - far.far_offset);
+        const cplx z0 = std::polar(a, rel0), step_x = std::polar(1.0, (ksx - fkx) * g.cell),
+                   step_y = std::polar(1.0, (ksy - fky) * g.cell);
+        cplx row = z0;
+        for (int j = j0; j <= j1; ++j, row *= step_y) {
+          const double wy = 1.0 - std::fabs(j - gy) * g.cell / radius;
+          if (wy <= 0.0) continue;
+          cplx z = row;
+          for (int i = i0; i <= i1; ++i, z *= step_x) {
+            const double wx = 1.0 - std::fabs(i - gx) * g.cell / radius;
+            if (wx <= 0.0) continue;
+            const std::size_t n = std::size_t(j) * g.nx + std::size_t(i);
+            if (check_walls && detail::first_wall_hit(walls, sx, sy, g.x(n), g.y(n)).hit) continue;
+            const double w = wx * wy;
+            weight[n] += w;
+            phase[n] += w * (phi0 + ksx * (i - i0) * g.cell + ksy * (j - j0) * g.cell);
+            re[n] += w * z.real();
+            im[n] += w * z.imag();
+            kx[n] += w * ksx;
+            ky[n] += w * ksy;
+          }
+        }
       }
     }
-  }
-  for (std::vector<float>* v : {&f.phi, &f.amplitude, &f.kx, &f.ky, &f.fold, &f.lean}) v->resize(nodes);
-  f.diffraction.assign(diffracts ? nodes : 0, 0.0f);
-  for (std::size_t n = 0; n < nodes; ++n) {
-    const double x = g.origin_x + double(n % g.nx) * g.cell, y = g.origin_y + double(n / g.nx) * g.cell;
-    if (w[n] > 1e-9) {
-      f.phi[n] = float(phi[n] / w[n]);
-      f.amplitude[n] = float(amp[n] / w[n]);
-      f.kx[n] = float(kx[n] / w[n]);
-      f.ky[n] = float(ky[n] / w[n]);
-      if (diffracts) f.diffraction[n] = float(kd[n] / w[n]);
-      shape(steepness, std::hypot(double(f.kx[n]), double(f.ky[n])), f.amplitude[n], floor.depth(x, y), f.fold[n], f.lean[n]);
-    } else {
-      // No wave here: keep the far field's phase and direction so interpolation towards it is smooth.
-      f.phi[n] = float(double(g.far_kx) * x + double(g.far_ky) * y - g.far_offset);
-      f.amplitude[n] = 0.0f;
-      f.kx[n] = g.far_kx;
-      f.ky[n] = g.far_ky;
-      f.fold[n] = 0.0f;
-      f.lean[n] = 0.0f;
+    for (std::size_t n = 0; n < nodes; ++n) {
+      if (weight[n] <= min_weight) continue;
+      const double inv = 1.0 / weight[n];
+      phase[n] *= inv;
+      re[n] *= inv;
+      im[n] *= inv;
+      kx[n] *= inv;
+      ky[n] *= inv;
     }
   }
+  bool covers(std::size_t n) const noexcept { return weight[n] > min_weight; }
+};
+
+/// A pierhead as one train sees it: the incident wave there and the breakwater frame it defines.
+struct Pierhead {
+  detail::PierheadSite site;
+  BreakwaterFrame frame;
+  double amplitude, phase, k, depth;  ///< incident A_M (m), phi_M (rad), k_M (rad/m), h_M (m)
+  double shadow_x, shadow_y;         ///< unit direction of the incident shadow line from M
+  double mirror_x, mirror_y;         ///< unit direction of the reflected wave's shadow line from M
+};
+
+/// A pierhead's diffracted wave travels out from M along straight lines (it is not refracted: docs/
+/// physics.md 9): per direction, its optical distance (the integral of k ds, through the depths it
+/// crosses) and how far it goes before land or a wall stops it.
+class RadialTable {
+ public:
+  RadialTable(const Pierhead& p, const Bathymetry& floor, const std::vector<detail::Capsule>& walls, double omega,
+              double h_min, double r_max, double step)
+      : step_(step), uniform_(floor.uniform()), k_m_(p.k), samples_(std::size_t(std::ceil(r_max / step)) + 2),
+        reach_(angles, float(r_max + step)) {
+    if (!uniform_) phase_.assign(angles * samples_, 0.0f);
+    // The segment that ends at M is the semi-infinite wall of the solution: no line from M crosses
+    // it. The wall's other segments and other walls stop the wave.
+    std::vector<detail::Capsule> others;
+    for (const detail::Capsule& c : walls) {
+      const bool own = c.wall == p.site.wall && ((c.ax == p.site.x && c.ay == p.site.y) || (c.bx == p.site.x && c.by == p.site.y));
+      if (!own) others.push_back(c);
+    }
+    const double start = 1e-3;
+    for (std::size_t a = 0; a < angles; ++a) {
+      const double c = std::cos(two_pi * double(a) / angles), s = std::sin(two_pi * double(a) / angles);
+      const detail::WallHit hit = detail::first_wall_hit(others, p.site.x + start * c, p.site.y + start * s,
+                                                         p.site.x + r_max * c, p.site.y + r_max * s);
+      double reach = hit.hit ? start + hit.u * (r_max - start) : r_max + step;
+      if (!uniform_) {
+        float* phase = &phase_[a * samples_];
+        double sum = 0.0;
+        for (std::size_t i = 1; i < samples_; ++i) {
+          const double r = (double(i) - 0.5) * step;
+          const double h = floor.depth(p.site.x + r * c, p.site.y + r * s);
+          if (!(h > h_min) && r > start) reach = std::min(reach, r);
+          sum += linear_wave(omega, std::max(h, min_depth)).k * step;
+          phase[i] = float(sum);
+        }
+      }
+      reach_[a] = float(reach);
+    }
+  }
+  /// Optical distance to (dx, dy) from M, or false where the wave does not go.
+  bool optical_distance(double dx, double dy, double r, double& k_r) const noexcept {
+    double u = std::atan2(dy, dx) / two_pi * angles;
+    if (u < 0.0) u += angles;
+    const std::size_t a0 = std::size_t(u) % angles, a1 = (a0 + 1) % angles;
+    const double t = u - std::floor(u);
+    if (r > double(t < 0.5 ? reach_[a0] : reach_[a1])) return false;
+    if (uniform_) {
+      k_r = k_m_ * r;
+      return true;
+    }
+    const double v = std::min(r / step_, double(samples_ - 1) - 1e-9);
+    const std::size_t i = std::size_t(v);
+    const double w = v - double(i);
+    const auto at = [&](std::size_t a) {
+      const float* phase = &phase_[a * samples_];
+      return double(phase[i]) + (double(phase[i + 1]) - double(phase[i])) * w;
+    };
+    k_r = at(a0) + (at(a1) - at(a0)) * t;
+    return true;
+  }
+
+ private:
+  static constexpr std::size_t angles = 2048;
+  double step_;
+  bool uniform_;
+  double k_m_;
+  std::size_t samples_;
+  std::vector<float> phase_;  ///< angles x samples: optical distance at r = i step
+  std::vector<float> reach_;  ///< per direction, m
+};
+
+/// A pierhead seen from one node.
+struct PierheadView {
+  BreakwaterPolar polar;
+  bool reached = false;    ///< the diffracted wave gets here (no land or wall on the way)
+  double k_r = 0.0;        ///< rad, optical distance from M
+  double amplitude = 0.0;  ///< m, the incident amplitude at M shoaled to the node
+};
+
+/// The incident wave at M from the incident family's nodes around it (M itself is on the wall),
+/// extrapolated along their wave vectors; false if no incident ray came near M (it is in the shadow
+/// of another structure or on land: no diffraction there, one order only).
+bool incident_at(const GridGeometry& g, const FamilyField& inc, double mx, double my, double radius,
+                 double& amplitude, double& phase, double& kx, double& ky) {
+  const int reach = int(std::ceil(2.0 * radius / g.cell));
+  const int ci = int(std::floor((mx - g.x0) / g.cell)), cj = int(std::floor((my - g.y0) / g.cell));
+  double w_sum = 0.0, a = 0.0, p = 0.0, qx = 0.0, qy = 0.0;
+  for (int j = std::max(0, cj - reach); j <= std::min(int(g.ny) - 1, cj + reach); ++j) {
+    for (int i = std::max(0, ci - reach); i <= std::min(int(g.nx) - 1, ci + reach); ++i) {
+      const std::size_t n = std::size_t(j) * g.nx + std::size_t(i);
+      if (!inc.covers(n)) continue;
+      const double dx = mx - g.x(n), dy = my - g.y(n);
+      const double w = 1.0 / (std::hypot(dx, dy) + g.cell);
+      w_sum += w;
+      a += w * std::hypot(inc.re[n], inc.im[n]);
+      p += w * (inc.phase[n] + inc.kx[n] * dx + inc.ky[n] * dy);
+      qx += w * inc.kx[n];
+      qy += w * inc.ky[n];
+    }
+  }
+  if (w_sum <= 0.0 || !(a > 0.0)) return false;
+  amplitude = a / w_sum;
+  phase = p / w_sum;
+  kx = qx / w_sum;
+  ky = qy / w_sum;
+  return std::hypot(kx, ky) > 0.0;
+}
+
+// Where a semi-infinite wall's geometric optics ends (s1 < 0, s2 < 0 in diffraction.hpp); the masks
+// and the diffracted waves must decide a point on a shadow line alike.
+bool in_shadow(const BreakwaterPolar& p) noexcept { return p.theta - p.theta0 > pi; }
+bool beyond_reflection(const BreakwaterPolar& p) noexcept { return p.theta + p.theta0 > pi; }
+
+/// Distance from P to the half-line from M along (dx, dy), if P lies beyond M along it; else +inf.
+double from_half_line(double px, double py, double mx, double my, double dx, double dy) noexcept {
+  const double along = (px - mx) * dx + (py - my) * dy;
+  return along > 0.0 ? std::fabs((px - mx) * dy - (py - my) * dx) : INFINITY;
 }
 
 }  // namespace
@@ -111,11 +276,12 @@ void splat(TrainField& f, TrainGrid& g, const WaveRays& rays, const Bathymetry& 
 Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& field, float cell) {
   if (!(cell > 0.0f)) return Error{"cell", "a resampling cell > 0 m"};
   if (field.trains.size() != scene.trains.size()) return Error{"field", "one traced train per scene train"};
-  // The trains, then the reflected waves (fields after the trains': probe() indexes the trains).
-  const std::size_t count = field.trains.size() + field.reflections.size();
+  const std::size_t count = field.trains.size();
   if (count > TrainGridFrame::max_trains) {
-    return Error{"trains", "at most " + std::to_string(TrainGridFrame::max_trains) +
-                               " wave trains and reflected waves together, got " + std::to_string(count)};
+    return Error{"trains", "at most " + std::to_string(TrainGridFrame::max_trains) + " wave trains, got " + std::to_string(count)};
+  }
+  for (const ReflectedWave& r : field.reflections) {
+    if (r.train >= count) return Error{"field", "a reflected wave of a train the scene has"};
   }
   SeaSurface s;
   const Bathymetry floor(scene.floor);
@@ -123,46 +289,277 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
   s.trains_.resize(count);
   s.grids_.resize(count);
   for (std::size_t t = 0; t < count; ++t) {
-    const bool reflection = t >= field.trains.size();
-    const std::size_t train = reflection ? field.reflections[t - field.trains.size()].train : t;
-    if (train >= scene.trains.size()) return Error{"field", "a reflected wave of a train the scene has"};
-    const WaveRays& rays = reflection ? field.reflections[t - field.trains.size()].rays : field.trains[t];
+    const WaveRays& rays = field.trains[t];
     TrainField& f = s.trains_[t];
     TrainGrid& g = s.grids_[t];
-    s.amplitude0_.push_back(float(scene.trains[train].amplitude));
+    s.amplitude0_.push_back(float(scene.trains[t].amplitude));
     f.omega = rays.omega;
-    f.phase = scene.trains[train].phase;
+    f.phase = scene.trains[t].phase;
     // Entry depth: where the train's rays come in, the domain's upstream edge centre.
     const double cx = 0.5 * (d.x_min + d.x_max) - rays.direction_x * 0.5 * (d.x_max - d.x_min);
     const double cy = 0.5 * (d.y_min + d.y_max) - rays.direction_y * 0.5 * (d.y_max - d.y_min);
-    const double steepness = scene.trains[train].steepness;
+    const double steepness = scene.trains[t].steepness;
     set_far_field(g, scene, rays, steepness, floor.depth(std::clamp(cx, d.x_min, d.x_max), std::clamp(cy, d.y_min, d.y_max)));
-    if (reflection) g.far_amplitude = g.far_fold = g.far_lean = 0.0f;  // a reflected wave exists only where its rays went
+    float b_max = g.far_amplitude;
     if (!rays.analytic) {
+      const double nx = std::ceil((d.x_max - d.x_min) / cell) + 1, ny = std::ceil((d.y_max - d.y_min) / cell) + 1;
+      if (!(nx * ny < 2147483648.0)) return Error{"cell", "a resampling grid of fewer than 2^31 nodes over the domain"};
       g.origin_x = float(d.x_min);
       g.origin_y = float(d.y_min);
       g.cell = cell;
-      const double nx = std::ceil((d.x_max - d.x_min) / cell) + 1, ny = std::ceil((d.y_max - d.y_min) / cell) + 1;
-      if (!(nx * ny < 2147483648.0)) return Error{"cell", "a resampling grid of fewer than 2^31 nodes over the domain"};
       g.nx = std::uint32_t(nx);
       g.ny = std::uint32_t(ny);
-      const double spacing = std::max(scene.dwt.step, scene.dwt.insertion_distance);
-      splat(f, g, rays, floor, steepness, std::max(spacing, 2.0 * double(cell)));
-      g.phi = f.phi.data();
-      g.amplitude = f.amplitude.data();
-      g.kx = f.kx.data();
-      g.ky = f.ky.data();
-      g.fold = f.fold.data();
-      g.lean = f.lean.data();
+      std::vector<const WaveRays*> reflected;
+      for (const ReflectedWave& r : field.reflections) {
+        if (r.train == t) reflected.push_back(&r.rays);
+      }
+      b_max = s.resample(t, scene, floor, rays, reflected);
     }
-    float a_max = g.far_amplitude;
-    for (float a : f.amplitude) a_max = std::max(a_max, a);
-    s.height_bound_ += a_max;
+    s.height_bound_ += b_max;
   }
   s.frame_.count = std::uint32_t(s.grids_.size());
   s.frame_.trains = s.grids_.data();
   s.set_time(0.0);
   return s;
+}
+
+float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const WaveRays& rays,
+                           const std::vector<const WaveRays*>& reflected) {
+  TrainField& f = trains_[t];
+  TrainGrid& g = grids_[t];
+  const GridGeometry geo{g.origin_x, g.origin_y, g.cell, g.nx, g.ny};
+  const std::size_t nodes = geo.nx * geo.ny;
+  const double radius = std::max({scene.dwt.step, scene.dwt.insertion_distance, 2.0 * double(g.cell)});
+  const double steepness = scene.trains[t].steepness;
+  const DiffractionModel model = scene.dwt.diffraction_model;
+  // Geometric-optics edges are sharpened within this distance of a shadow line (the splat has
+  // carried each family up to `radius` past its last ray).
+  const double band = 2.0 * radius + 2.0 * double(g.cell);
+
+  const std::vector<detail::Capsule> walls = detail::wall_capsules(scene.walls);
+  const std::vector<detail::PierheadSite> sites =
+      scene.dwt.diffraction ? detail::pierhead_sites(scene, floor, rays.min_depth) : std::vector<detail::PierheadSite>{};
+  FamilyField incident;
+  // The tracer's diffraction fans are not the incident family (the sea surface diffracts, below).
+  incident.splat(geo, g, rays, [&](std::size_t r) { return rays.pierhead[r] < 0; }, radius, walls);
+
+  // The pierheads this train reaches, with the incident wave at each.
+  std::vector<Pierhead> pierheads;
+  {
+    for (const detail::PierheadSite& site : sites) {
+      Pierhead p{site, {}, 0.0, 0.0, 0.0, std::max(floor.depth(site.x, site.y), min_depth), 0, 0, 0, 0};
+      double kx, ky;
+      if (!incident_at(geo, incident, site.x, site.y, radius, p.amplitude, p.phase, kx, ky)) continue;
+      p.k = std::hypot(kx, ky);
+      const auto frame = make_breakwater_frame({site.x, site.y, site.ux, site.uy}, kx / p.k, ky / p.k, two_pi / p.k);
+      if (!frame.ok()) continue;
+      p.frame = frame.value();
+      p.shadow_x = kx / p.k;
+      p.shadow_y = ky / p.k;
+      // The reflected wave's shadow line: the incident direction mirrored about the wall's line.
+      const double along = p.shadow_x * site.ux + p.shadow_y * site.uy;
+      p.mirror_x = 2.0 * along * site.ux - p.shadow_x;
+      p.mirror_y = 2.0 * along * site.uy - p.shadow_y;
+      pierheads.push_back(p);
+    }
+  }
+
+  for (std::vector<float>* v : {&f.phi, &f.b_re, &f.b_im, &f.kx, &f.ky, &f.fold, &f.lean}) v->assign(nodes, 0.0f);
+  f.diffraction.assign(pierheads.empty() ? 0 : nodes, 0.0f);
+  std::vector<double> magnitude(nodes, 0.0);
+  const double omega = rays.omega;
+  const LinearWave uniform_wave = linear_wave(omega, std::max(floor.depth(geo.x0, geo.y0), min_depth));
+  std::vector<FamilyField> reflections(reflected.size());
+  for (std::size_t r = 0; r < reflected.size(); ++r) {
+    // Rays reflected off a pierhead's rounded end would spray its reflection round the tip: the
+    // diffracted wave is what goes there.
+    const WaveRays& w = *reflected[r];
+    const auto off_the_face = [&](std::size_t ray) {
+      if (w.sample_begin[ray] == w.sample_begin[ray + 1]) return false;
+      const double x = w.x[w.sample_begin[ray]], y = w.y[w.sample_begin[ray]];
+      return std::none_of(sites.begin(), sites.end(), [&](const detail::PierheadSite& p) {
+        return (x - p.x) * p.ux + (y - p.y) * p.uy < 0.0 && std::hypot(x - p.x, y - p.y) < 2.0 * p.radius + 1e-6;
+      });
+    };
+    reflections[r].splat(geo, g, w, off_the_face, radius, walls);
+  }
+
+  std::vector<PierheadView> views(pierheads.size());
+  std::vector<RadialTable> radials;
+  const double far_corner = std::hypot(double(geo.nx - 1) * geo.cell, double(geo.ny - 1) * geo.cell);
+  for (const Pierhead& p : pierheads) radials.emplace_back(p, floor, walls, rays.omega, rays.min_depth, far_corner, double(g.cell));
+  for (std::size_t n = 0; n < nodes; ++n) {
+    const double x = geo.x(n), y = geo.y(n);
+    const double psi = double(g.far_kx) * x + double(g.far_ky) * y - g.far_offset;
+    const double depth = floor.depth(x, y);
+    if (!(depth > rays.min_depth)) {
+      // Land, where the rays end: no wave. The far field's phase and direction keep interpolation
+      // towards the node smooth.
+      f.phi[n] = float(psi);
+      f.kx[n] = g.far_kx;
+      f.ky[n] = g.far_ky;
+      continue;
+    }
+    const double h = std::max(depth, min_depth);
+    const LinearWave wave = floor.uniform() ? uniform_wave : linear_wave(omega, h);
+    // Candidates for the carrier: the first wave to arrive (least phase) is continuous across every
+    // shadow line (there the incident and the diffracted phases agree).
+    double carrier = INFINITY, ckx = g.far_kx, cky = g.far_ky;
+    const auto offer = [&](double phase, double kx, double ky) {
+      if (phase < carrier) carrier = phase, ckx = kx, cky = ky;
+    };
+    // Each pierhead's frame at this node, the optical distance k r from it and its incident
+    // amplitude shoaled from M to here.
+    for (std::size_t q = 0; q < pierheads.size(); ++q) {
+      const Pierhead& p = pierheads[q];
+      PierheadView& v = views[q];
+      v.polar = breakwater_polar(p.frame, x, y);
+      v.k_r = p.k * v.polar.r;
+      v.reached = radials[q].optical_distance(x - p.site.x, y - p.site.y, v.polar.r, v.k_r);
+      v.amplitude = p.amplitude * shoaling_coefficient(wave.kh) / shoaling_coefficient(p.k * p.depth);
+    }
+    // Pierhead q's geometric-optics plane wave (incident: sign -1, along the shadow line; reflected:
+    // sign +1, along the mirror line), offered as a carrier; relative to psi.
+    const auto plane_wave = [&](std::size_t q, double sign) {
+      const Pierhead& p = pierheads[q];
+      const PierheadView& v = views[q];
+      const double phase = p.phase - v.k_r * std::cos(v.polar.theta + sign * v.polar.theta0);
+      const double dx = sign < 0.0 ? p.shadow_x : p.mirror_x, dy = sign < 0.0 ? p.shadow_y : p.mirror_y;
+      offer(phase, wave.k * dx, wave.k * dy);
+      return v.amplitude * (sign < 0.0 ? 1.0 : p.site.reflection) * std::polar(1.0, phase - psi);
+    };
+    // Sums relative to psi.
+    cplx sum = 0.0, reference = 0.0;
+    // The incident rays, cut at every pierhead's shadow line. The last ray may pass up to a ray
+    // spacing from M: where none reached near the line, the pierhead's plane wave fills the gap.
+    if (incident.covers(n)) reference = cplx(incident.re[n], incident.im[n]);
+    bool lit = incident.covers(n);
+    std::size_t fill = pierheads.size();
+    for (std::size_t q = 0; q < pierheads.size(); ++q) {
+      const Pierhead& p = pierheads[q];
+      if (from_half_line(x, y, p.site.x, p.site.y, p.shadow_x, p.shadow_y) >= band) continue;
+      if (in_shadow(views[q].polar)) {
+        lit = false;
+      } else if (!incident.covers(n)) {
+        fill = q;
+      }
+    }
+    if (lit) {
+      sum += reference;
+      offer(incident.phase[n], incident.kx[n], incident.ky[n]);
+    } else if (fill < pierheads.size()) {
+      sum += plane_wave(fill, -1.0);
+    }
+    // The reflected waves, cut and filled in the same way at their shadow lines (the exact model
+    // diffracts them; the paper's models do not, and leave them as traced).
+    bool reflection_covers = false;
+    fill = pierheads.size();
+    for (const FamilyField& r : reflections) {
+      if (!r.covers(n)) continue;
+      reflection_covers = true;
+      bool beyond = false;
+      for (std::size_t q = 0; q < pierheads.size() && model == DiffractionModel::exact; ++q) {
+        const Pierhead& p = pierheads[q];
+        if (p.site.reflection <= 0.0 || from_half_line(x, y, p.site.x, p.site.y, p.mirror_x, p.mirror_y) >= band) continue;
+        if (beyond_reflection(views[q].polar)) beyond = true;
+      }
+      if (beyond) continue;
+      sum += cplx(r.re[n], r.im[n]);
+      offer(r.phase[n], r.kx[n], r.ky[n]);
+    }
+    for (std::size_t q = 0; q < pierheads.size() && model == DiffractionModel::exact && !reflection_covers; ++q) {
+      const Pierhead& p = pierheads[q];
+      if (p.site.reflection <= 0.0 || from_half_line(x, y, p.site.x, p.site.y, p.mirror_x, p.mirror_y) >= band) continue;
+      if (beyond_reflection(views[q].polar)) continue;
+      sum += plane_wave(q, 1.0);
+      break;
+    }
+    // Each pierhead's diffracted wave: the semi-infinite solution minus its geometric-optics part
+    // (docs/physics.md 4.5), or a paper model's coefficient minus the incident wave.
+    for (std::size_t q = 0; q < pierheads.size(); ++q) {
+      const Pierhead& p = pierheads[q];
+      const PierheadView& v = views[q];
+      if (!v.reached) continue;
+      const double alpha = p.site.reflection;
+      const cplx go1 = std::polar(1.0, -v.k_r * std::cos(v.polar.theta - v.polar.theta0));
+      cplx d;
+      if (model == DiffractionModel::exact) {
+        d = sommerfeld_field(v.k_r, v.polar.theta, v.polar.theta0, alpha);
+        if (!in_shadow(v.polar)) d -= go1;
+        if (!beyond_reflection(v.polar)) d -= alpha * std::polar(1.0, -v.k_r * std::cos(v.polar.theta + v.polar.theta0));
+      } else {
+        const auto sample = diffraction(model, v.k_r / two_pi, v.polar.theta, v.polar.theta0, alpha);
+        if (!sample.ok()) continue;
+        d = std::polar(sample->K, sample->phase);
+        if (!in_shadow(v.polar)) d -= go1;
+      }
+      sum += v.amplitude * d * std::polar(1.0, p.phase - psi);
+      const double r = std::max(v.polar.r, 1e-9);
+      offer(p.phase + v.k_r, wave.k * (x - p.site.x) / r, wave.k * (y - p.site.y) / r);
+    }
+    if (!std::isfinite(carrier)) {
+      // No wave reaches this node: keep the far field's phase and direction so that interpolation
+      // towards it is smooth.
+      f.phi[n] = float(psi);
+      f.kx[n] = g.far_kx;
+      f.ky[n] = g.far_ky;
+      continue;
+    }
+    cplx b = sum * std::polar(1.0, psi - carrier);
+    // The waves that meet here break as one: H <= gamma_b h and H <= 0.142 L tanh kh (the tracer
+    // caps each ray so; their sum, and the diffracted wave shoaled into shallow water, need it too).
+    const double limit = std::min(0.5 * scene.dwt.breaker_index * h, 0.071 * two_pi / wave.k * std::tanh(wave.kh));
+    if (std::abs(b) > limit) b *= limit / std::abs(b);
+    f.phi[n] = float(carrier);
+    f.b_re[n] = float(b.real());
+    f.b_im[n] = float(b.imag());
+    f.kx[n] = float(ckx);
+    f.ky[n] = float(cky);
+    magnitude[n] = std::abs(b);
+    double fold, lean;
+    shape(steepness, std::hypot(ckx, cky), h, fold, lean);
+    f.fold[n] = float(fold);
+    f.lean[n] = float(lean);
+    if (!f.diffraction.empty()) {
+      // K': the wave here against the incident wave without the structures (its rays where they
+      // reached, else the nearest pierhead's incident amplitude shoaled to here).
+      double a_ref = std::abs(reference);
+      if (!(a_ref > 0.0)) {
+        double best = INFINITY;
+        for (std::size_t q = 0; q < pierheads.size(); ++q) {
+          if (views[q].polar.r < best) {
+            best = views[q].polar.r;
+            a_ref = views[q].amplitude;
+          }
+        }
+      }
+      f.diffraction[n] = a_ref > 0.0 ? float(std::abs(b) / a_ref) : 0.0f;
+    }
+  }
+  // The fold-free bound sqrt(Q^2 + L^2) <= max_fold holds for any bilinear mix of a cell's corners:
+  // each node's fold and lean are scaled for the largest |B| of the cells around it.
+  double b_max = g.far_amplitude;
+  for (std::size_t n = 0; n < nodes; ++n) {
+    const std::size_t i = n % geo.nx, j = n / geo.nx;
+    double around = 0.0;
+    for (std::size_t jj = j > 0 ? j - 1 : 0; jj <= std::min(j + 1, geo.ny - 1); ++jj) {
+      for (std::size_t ii = i > 0 ? i - 1 : 0; ii <= std::min(i + 1, geo.nx - 1); ++ii) around = std::max(around, magnitude[jj * geo.nx + ii]);
+    }
+    b_max = std::max(b_max, magnitude[n]);
+    const double norm = std::hypot(double(f.fold[n]), double(f.lean[n])) * around;
+    if (norm > max_fold) {
+      f.fold[n] = float(double(f.fold[n]) * max_fold / norm);
+      f.lean[n] = float(double(f.lean[n]) * max_fold / norm);
+    }
+  }
+  g.phi = f.phi.data();
+  g.b_re = f.b_re.data();
+  g.b_im = f.b_im.data();
+  g.kx = f.kx.data();
+  g.ky = f.ky.data();
+  g.fold = f.fold.data();
+  g.lean = f.lean.data();
+  return float(b_max);
 }
 
 void SeaSurface::set_time(double time_s) noexcept {
@@ -177,7 +574,7 @@ void SeaSurface::eval(const float* x, const float* y, std::size_t n, float* heig
 }
 
 TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept {
-  HOULE_ASSERT(train < trains_.size(), "SeaSurface::probe: a field of trains()");
+  HOULE_ASSERT(train < trains_.size(), "SeaSurface::probe: a train of the scene");
   const TrainGrid& g = grids_[train];
   const TrainGridFields l = train_grid_fields(g, x, y);
   float diffraction = 1.0f;
@@ -192,11 +589,11 @@ TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept
   }
   const float k = std::sqrt(l.kx * l.kx + l.ky * l.ky);
   TrainProbe p;
-  p.amplitude = std::max(l.amplitude, 0.0f);
+  p.amplitude = std::hypot(l.b_re, l.b_im);
   p.relative_amplitude = amplitude0_[train] > 0.0f ? p.amplitude / amplitude0_[train] : 0.0f;
   p.wavelength = k > 0.0f ? float(two_pi) / k : 0.0f;
-  p.direction_deg = float(std::atan2(l.ky, l.kx) * 180.0 / std::numbers::pi);
-  p.phase = float(std::remainder(double(l.phi) - double(frame_.time_phase[train]), two_pi));
+  p.direction_deg = float(std::atan2(l.ky, l.kx) * 180.0 / pi);
+  p.phase = float(std::remainder(double(l.phi) + std::atan2(double(l.b_im), double(l.b_re)) - double(frame_.time_phase[train]), two_pi));
   p.diffraction = diffraction;
   return p;
 }

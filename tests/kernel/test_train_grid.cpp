@@ -13,12 +13,13 @@ namespace {
 
 /// A train's arrays and the grid that points into them.
 struct Train {
-  std::vector<float> phi, amplitude, kx, ky, fold, lean;
+  std::vector<float> phi, b_re, b_im, kx, ky, fold, lean;
   houle::TrainGrid grid;
 
   void bind() {
     grid.phi = phi.data();
-    grid.amplitude = amplitude.data();
+    grid.b_re = b_re.data();
+    grid.b_im = b_im.data();
     grid.kx = kx.data();
     grid.ky = ky.data();
     grid.fold = fold.data();
@@ -26,8 +27,9 @@ struct Train {
   }
 };
 
-/// Straight crests of wavenumber k along `angle`, amplitude a, fold q and lean l on an nx x ny grid;
-/// the far field is the same wave, so the surface is one train everywhere.
+/// Straight crests of wavenumber k along `angle`, amplitude a, fold q and lean l (Q and L: per metre
+/// of amplitude they are q / a and l / a) on an nx x ny grid; the far field is the same wave, so the
+/// surface is one train everywhere.
 Train uniform_train(double k, double angle, float a, float q, float l, std::uint32_t nx, std::uint32_t ny, float cell) {
   Train t;
   houle::TrainGrid& g = t.grid;
@@ -39,25 +41,26 @@ Train uniform_train(double k, double angle, float a, float q, float l, std::uint
   g.far_kx = float(k * std::cos(angle));
   g.far_ky = float(k * std::sin(angle));
   g.far_amplitude = a;
-  g.far_fold = q;
-  g.far_lean = l;
+  g.far_fold = q / a;
+  g.far_lean = l / a;
   g.far_offset = 0.75;
   for (std::uint32_t j = 0; j < ny; ++j) {
     for (std::uint32_t i = 0; i < nx; ++i) {
       const double x = g.origin_x + double(i) * cell, y = g.origin_y + double(j) * cell;
       t.phi.push_back(float(g.far_kx * x + g.far_ky * y - g.far_offset));
-      t.amplitude.push_back(a);
+      t.b_re.push_back(a);
+      t.b_im.push_back(0.0f);
       t.kx.push_back(g.far_kx);
       t.ky.push_back(g.far_ky);
-      t.fold.push_back(q);
-      t.lean.push_back(l);
+      t.fold.push_back(g.far_fold);
+      t.lean.push_back(g.far_lean);
     }
   }
   t.bind();
   return t;
 }
 
-/// Independent random fields per node (fold and lean inside the fold-free disc).
+/// Independent random fields per node (|B| <= 1, fold and lean inside the fold-free disc).
 Train random_train(std::mt19937& rng) {
   std::uniform_int_distribution<std::uint32_t> size(2, 40);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -76,7 +79,9 @@ Train random_train(std::mt19937& rng) {
   g.far_offset = 100.0 * u(rng);
   for (std::size_t n = 0; n < std::size_t(g.nx) * g.ny; ++n) {
     t.phi.push_back(200.0f * u(rng) - 100.0f);
-    t.amplitude.push_back(u(rng));
+    const float b = u(rng), arg = 6.2831853f * u(rng);
+    t.b_re.push_back(b * std::cos(arg));
+    t.b_im.push_back(b * std::sin(arg));
     t.kx.push_back(2.0f * u(rng) - 1.0f);
     t.ky.push_back(2.0f * u(rng) - 1.0f);
     const float r = 0.9f * u(rng), a = 6.2831853f * u(rng);
@@ -120,7 +125,7 @@ TEST(TrainGrid, EveryIsaMatchesScalarIncludingTails) {
       for (const Train& t : trains) {
         grids.push_back(t.grid);
         height_scale += 1.0f;
-        slope_scale += 2.0f * 1.5f;  // |A| <= 1, |1 + Q sin - L cos| <= 1.9, |k| <= sqrt 2
+        slope_scale += 2.0f * 1.5f + 2.0f / t.grid.cell;  // |B| <= 1, |k| <= sqrt 2, |dB| <= 2 / cell
       }
       const houle::TrainGridFrame frame = frame_of(grids, 0.37 * trial);
       for (std::size_t n : sizes) {
@@ -167,6 +172,51 @@ TEST(TrainGrid, UniformGridIsTheClosedFormTrochoid) {
   std::printf("uniform train: max |h - closed form| %.3g m, max |grad - central difference| %.3g\n", worst_h, worst_g);
   EXPECT_LT(worst_h, 2e-5);  // float phases of ~15 rad: a few 1e-6 rad
   EXPECT_LT(worst_g, 2e-3);  // central difference error ~ e^2 k^3 A + float rounding / e
+}
+
+// Two sine waves of one frequency crossing at 70 degrees, held as one train: the first as the carrier,
+// the second in B = a1 + a2 e^{i (k2 - k1) . x} (docs/physics.md 7). The grid gives their sum, to
+// B's bilinear interpolation error (|k2 - k1| cell)^2 / 8 of a2, and the gradient is the height's.
+TEST(TrainGrid, CrossingWavesInOneGridAreTheirSum) {
+  const double k = 0.8, a1 = 0.5, a2 = 0.3, angle2 = 70.0 * 3.14159265358979 / 180.0;
+  const float cell = 0.25f;
+  Train t = uniform_train(k, 0.0, float(a1), 0.0f, 0.0f, 161, 161, cell);
+  const houle::TrainGrid& g = t.grid;
+  for (std::uint32_t j = 0; j < g.ny; ++j) {
+    for (std::uint32_t i = 0; i < g.nx; ++i) {
+      const double x = g.origin_x + double(i) * cell, y = g.origin_y + double(j) * cell;
+      const double dphi = k * (std::cos(angle2) * x + std::sin(angle2) * y) - k * x;
+      t.b_re[j * g.nx + i] = float(a1 + a2 * std::cos(dphi));
+      t.b_im[j * g.nx + i] = float(a2 * std::sin(dphi));
+    }
+  }
+  t.bind();
+  const std::vector<houle::TrainGrid> grids = {t.grid};
+  const double time = 1.7;
+  const houle::TrainGridFrame frame = frame_of(grids, time);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> coord(-19.0f, 19.0f);
+  double worst_h = 0.0, worst_g = 0.0;
+  for (int n = 0; n < 4000; ++n) {
+    const float x = coord(rng), y = coord(rng), e = 1e-3f;
+    const float xs[5] = {x, x + e, x - e, x, x}, ys[5] = {y, y, y, y + e, y - e};
+    Outputs o(5);
+    houle::train_grid_eval(frame, xs, ys, 5, o.view());
+    const double tau = 1.3 * time - 0.2 + 0.75;
+    const double h = a1 * std::sin(k * x - tau) + a2 * std::sin(k * (std::cos(angle2) * x + std::sin(angle2) * y) - tau);
+    worst_h = std::max(worst_h, std::fabs(o.h[0] - h));
+    // Central differences inside one cell only (B's gradient steps at cell edges).
+    const float u = (x - g.origin_x) / cell, v = (y - g.origin_y) / cell;
+    if (std::fabs(u - std::round(u)) < 0.01f || std::fabs(v - std::round(v)) < 0.01f) continue;
+    worst_g = std::max({worst_g, double(std::fabs((o.h[1] - o.h[2]) / (2 * e) - o.gx[0])),
+                        double(std::fabs((o.h[3] - o.h[4]) / (2 * e) - o.gy[0]))});
+  }
+  const double dk = k * std::hypot(std::cos(angle2) - 1.0, std::sin(angle2));
+  const double bound = a2 * dk * dk * cell * cell / 8.0;
+  std::printf("crossing waves: max |h - sum| %.3g m (interpolation bound %.3g), max |grad - central difference| %.3g\n",
+              worst_h, bound, worst_g);
+  EXPECT_LT(worst_h, bound + 1e-5);
+  EXPECT_LT(worst_g, 5e-3);  // float heights differenced over 2 mm: ~1e-7 / 2e-3
 }
 
 // The lean steepens the front face (the side the wave travels towards) and eases the back; no lean

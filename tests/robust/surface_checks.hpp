@@ -35,8 +35,8 @@ inline bool in_covered_cell(const SeaSurface& s, float x, float y) {
     const float gx = (x - g.origin_x) / g.cell, gy = (y - g.origin_y) / g.cell;
     if (!(gx >= 0.0f && gy >= 0.0f && gx < float(g.nx - 1) && gy < float(g.ny - 1))) return false;
     const std::size_t n = std::size_t(gy) * g.nx + std::size_t(gx);
-    const float* a = g.amplitude;
-    if (!(a[n] > 0.0f && a[n + 1] > 0.0f && a[n + g.nx] > 0.0f && a[n + g.nx + 1] > 0.0f)) return false;
+    const auto wave = [&](std::size_t m) { return g.b_re[m] != 0.0f || g.b_im[m] != 0.0f; };
+    if (!(wave(n) && wave(n + 1) && wave(n + g.nx) && wave(n + g.nx + 1))) return false;
   }
   return true;
 }

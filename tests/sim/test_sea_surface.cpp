@@ -115,8 +115,10 @@ TEST(SeaSurface, TracedBeachIsContinuousAndBounded) {
 TEST(SeaSurface, ProbeReportsTheDiffractionCoefficient) {
   // The paper's Fig. 4 (rigid wall from (0, 50) to the pierhead (50, 50), waves from the south):
   // the probe's K' against the exact Sommerfeld coefficient in the lee, on the shadow line and on
-  // the lit side, and A = A0 Ks K' on a flat bottom. Tolerance 0.03: the tent splat averages K' over
-  // ~1 m around each node (K' varies by up to ~0.1 per metre near the pierhead).
+  // the lit side beyond the tip, and A = A0 Ks K' on a flat bottom. (In front of this 1 m thick wall
+  // the reflected wave starts half a metre before the thin wall of the exact solution:
+  // test_coastal_oracles.cpp measures that side with a thin wall.) Tolerance 0.005: the diffracted wave is exact at
+  // the nodes; the rest is bilinear interpolation between them.
   const houle::Scene scene = houle::paper_fig4();
   houle::SeaSurface s = build(scene);
   const double omega = 2.0 * std::numbers::pi / 2.5;
@@ -124,7 +126,8 @@ TEST(SeaSurface, ProbeReportsTheDiffractionCoefficient) {
   const auto frame = houle::make_breakwater_frame(houle::Breakwater{50.0, 50.0, -1.0, 0.0}, 0.0, 1.0, 2.0 * std::numbers::pi / lw.k);
   ASSERT_TRUE(frame.ok());
   double worst = 0.0, worst_amplitude = 0.0;
-  for (const auto& [x, y] : {std::pair{25.0, 75.0}, {40.0, 90.0}, {10.0, 60.0}, {50.0, 80.0}, {45.0, 70.0}, {60.0, 85.0}, {90.0, 90.0}}) {
+  for (const auto& [x, y] : {std::pair{25.0, 75.0}, {40.0, 90.0}, {10.0, 60.0}, {50.0, 80.0}, {45.0, 70.0}, {60.0, 85.0}, {90.0, 90.0},
+                              {70.0, 40.0}}) {
     const houle::TrainProbe p = s.probe(0, float(x), float(y));
     const houle::BreakwaterPolar polar = houle::breakwater_polar(frame.value(), x, y);
     const auto exact = houle::diffraction(houle::DiffractionModel::exact, polar.r_over_L, polar.theta, polar.theta0, 1.0);
@@ -133,18 +136,14 @@ TEST(SeaSurface, ProbeReportsTheDiffractionCoefficient) {
     worst_amplitude = std::max(worst_amplitude, std::fabs(double(p.amplitude) - 0.15 * houle::shoaling_coefficient(lw.kh) * double(p.diffraction)));
     std::printf("(%g, %g): probe K' %.4f, exact %.4f\n", x, y, p.diffraction, exact->K);
   }
-  EXPECT_LT(worst, 0.03);
+  EXPECT_LT(worst, 0.005);
   EXPECT_LT(worst_amplitude, 1e-3);
   // Outside the grid and for a train without diffraction: K' = 1.
   EXPECT_EQ(s.probe(0, -10.0f, -10.0f).diffraction, 1.0f);
   const houle::SeaSurface deep = build(deep_sea());
   EXPECT_EQ(deep.probe(0, 50.0f, 50.0f).diffraction, 1.0f);
-  // The rigid wall reflects: its reflected wave is a field after the train's, relative to the same A0.
-  ASSERT_GT(s.trains().size(), scene.trains.size());
-  for (std::size_t f = 0; f < s.trains().size(); ++f) {
-    const houle::TrainProbe p = s.probe(f, 30.0f, 40.0f);
-    EXPECT_TRUE(std::isfinite(p.relative_amplitude) && p.relative_amplitude >= 0.0f && p.relative_amplitude < 3.0f) << f;
-  }
+  // The reflected wave is part of the train: one field per scene train.
+  EXPECT_EQ(s.trains().size(), scene.trains.size());
 }
 
 // Fournier-Reeves depth effects on a planar beach: the orbit's horizontal excursion (fold) and the
@@ -157,7 +156,9 @@ TEST(SeaSurface, ShoalingFlattensOrbitsAndLeansCrestsWithoutFolding) {
   const houle::TrainGrid& g = s.grids()[0];
   ASSERT_GE(g.nx, 2u);
   double worst = 0.0;
-  for (std::size_t n = 0; n < std::size_t(g.nx) * g.ny; ++n) worst = std::max(worst, std::hypot(double(g.fold[n]), double(g.lean[n])));
+  // Fold and lean are per metre of amplitude: Q = fold |B|, L = lean |B|.
+  const auto b = [](const houle::TrainGrid& grid, std::size_t n) { return std::hypot(double(grid.b_re[n]), double(grid.b_im[n])); };
+  for (std::size_t n = 0; n < std::size_t(g.nx) * g.ny; ++n) worst = std::max(worst, std::hypot(double(g.fold[n]), double(g.lean[n])) * b(g, n));
   std::printf("beach: max sqrt(Q^2 + L^2) = %.6f (limit 0.9)\n", worst);
   EXPECT_LE(worst, 0.9 + 1e-6);
   // Five times the amplitude: the tracer's breaking cap H <= 0.142 L tanh(kh), i.e. kA <= 0.142 pi
@@ -167,14 +168,14 @@ TEST(SeaSurface, ShoalingFlattensOrbitsAndLeansCrestsWithoutFolding) {
   const houle::SeaSurface s5 = build(steep);
   const houle::TrainGrid& g5 = s5.grids()[0];
   double worst5 = 0.0;
-  for (std::size_t n = 0; n < std::size_t(g5.nx) * g5.ny; ++n) worst5 = std::max(worst5, double(g5.fold[n]));
+  for (std::size_t n = 0; n < std::size_t(g5.nx) * g5.ny; ++n) worst5 = std::max(worst5, double(g5.fold[n]) * b(g5, n));
   std::printf("steep beach: max fold %.6f (breaking bound %.6f)\n", worst5, 0.142 * std::numbers::pi);
   // 1 % slack: nodes average A and k over the splat's tent (radius 1.5 m, 7.5 cm of depth on this
   // 1:20 slope) but take kh at their own depth, so a node's kA coth(kh) can exceed its samples' by that much.
   EXPECT_LE(worst5, 1.01 * 0.142 * std::numbers::pi);
   EXPECT_GT(worst5, 0.8 * 0.142 * std::numbers::pi);  // the cap is reached, not avoided
   // Along the middle column, deep (y = 10 m) to shallow (y = 90 m): where the limit is not reached,
-  // Q = q k A coth(kh) and L / Q = e^{-kh} exactly, with h the floor's depth at the node.
+  // Q / A = q k coth(kh) and L / Q = e^{-kh} exactly, with h the floor's depth at the node.
   const houle::Bathymetry floor(scene.floor);
   const std::size_t i = g.nx / 2;
   double previous_ratio = 0.0;
@@ -182,8 +183,8 @@ TEST(SeaSurface, ShoalingFlattensOrbitsAndLeansCrestsWithoutFolding) {
     const std::size_t n = std::size_t(std::lround((y - g.origin_y) / g.cell)) * g.nx + i;
     const double x = g.origin_x + double(i) * g.cell, yn = g.origin_y + double(n / g.nx) * g.cell;
     const double k = std::hypot(double(g.kx[n]), double(g.ky[n])), kh = k * floor.depth(x, yn);
-    ASSERT_GT(g.amplitude[n], 0.0f);
-    EXPECT_NEAR(g.fold[n], k * g.amplitude[n] / std::tanh(kh), 1e-5) << "y = " << y;
+    ASSERT_GT(b(g, n), 0.0);
+    EXPECT_NEAR(g.fold[n], k / std::tanh(kh), 1e-5) << "y = " << y;
     EXPECT_NEAR(g.lean[n] / g.fold[n], std::exp(-kh), 1e-5) << "y = " << y;
     EXPECT_GT(std::exp(-kh), previous_ratio);  // shoaling all the way
     previous_ratio = std::exp(-kh);

@@ -18,7 +18,7 @@ void check_trains(const TrainGridFrame& frame) noexcept {
     const TrainGrid& g = frame.trains[t];
     HOULE_ASSERT((g.nx == 0 && g.ny == 0) || (g.nx >= 2 && g.ny >= 2 && std::uint64_t(g.nx) * g.ny < (1ull << 31)),
                  "TrainGrid: nx, ny >= 2 with nx * ny < 2^31, or both 0");
-    HOULE_ASSERT(g.nx == 0 || (g.phi != nullptr && g.amplitude != nullptr && g.kx != nullptr && g.ky != nullptr &&
+    HOULE_ASSERT(g.nx == 0 || (g.phi != nullptr && g.b_re != nullptr && g.b_im != nullptr && g.kx != nullptr && g.ky != nullptr &&
                                g.fold != nullptr && g.lean != nullptr),
                  "TrainGrid: nx * ny values in each field array");
   }
@@ -38,7 +38,7 @@ void set_train_grid_time(TrainGridFrame& frame, const double* omega_t_minus_phas
 TrainGridFields train_grid_fields(const TrainGrid& grid, float x, float y) noexcept {
   const detail::TrainGridLanes<simd::scalar> l = detail::train_grid_lanes<simd::scalar>(grid, x, y);
   const float phi = l.inside ? l.phi : float(double(l.phi) - grid.far_offset);
-  return {phi, l.amplitude, l.kx, l.ky, l.fold, l.lean};
+  return {phi, l.b_re, l.b_im, l.kx, l.ky, l.fold, l.lean};
 }
 
 namespace {

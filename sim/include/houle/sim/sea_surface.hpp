@@ -1,19 +1,23 @@
-// The sea surface of a scene at any time: every train, traced or analytic, and the reflected waves of
-// traced trains, summed (paper eq. 8).
+// The sea surface of a scene at any time: every train, traced or analytic, summed (paper eq. 8).
 //
-// Once per scene each traced train's rays (wave_rays.hpp) are resampled onto a regular grid over the
-// domain holding the static fields of the train: phase phi = integral of k ds, amplitude A and the
-// local wave vector (k cos theta, k sin theta). Samples are splatted with a tent kernel wide enough
-// to close the gaps between rays; nodes no ray reached carry no wave (the lee of a wall without
-// diffraction, land). Outside the domain a train continues as straight crests with its entry
-// wavenumber and amplitude (the tracer's own convention upstream of the domain).
+// Once per scene each traced train becomes a grid over the domain (houle/surface/train_grid.hpp)
+// holding its static field as a carrier phase, the carrier's wave vector and a complex amplitude B
+// relative to the carrier (docs/physics.md 7). Everything of the train's frequency that reaches a
+// node adds into B as linear waves do: its incident rays, its reflected waves' rays, and at every
+// pierhead the diffracted wave (the exact semi-infinite solution minus its geometric-optics part, or
+// a paper model's). Ray families are tent-splatted (each sample extrapolated to the node along its
+// wave vector) and normalised per family, so that no family outvotes another; geometric-optics
+// edges are cut exactly at the shadow lines where a pierhead's diffracted wave takes over. The
+// carrier is the least phase offered at the node (the first wave to arrive): continuous across
+// shadow lines, so the grid interpolates smoothly. Nodes no wave reached carry B = 0. Outside the
+// domain a train continues as straight crests with its entry wavenumber and amplitude (the tracer's
+// own convention upstream of the domain).
 //
-// The shape along the rays is the depth-aware trochoid of houle/surface/train_grid.hpp, which also
-// evaluates the summed trains per frame (SIMD; only the phase changes per frame: omega t reduced in
-// double). Per node, once per scene: the fold Q = q k A coth(kh) (Airy orbits flatten into ellipses
-// whose horizontal axis is A coth kh) and the lean L = Q e^{-kh} (the crest leans shoreward as the
-// water shoals, Fournier & Reeves 1986; docs/physics.md 3.2 gives no constants, so none are invented
-// beyond this), scaled together so that sqrt(Q^2 + L^2) <= 0.9: the profile never folds.
+// The shape is the depth-aware trochoid of train_grid.hpp: per node, once per scene, the fold
+// q k coth(kh) and the lean (fold e^{-kh}) per metre of amplitude (Airy orbits flatten into ellipses
+// whose horizontal axis is A coth kh; the crest leans shoreward as the water shoals, Fournier &
+// Reeves 1986; docs/physics.md 3.2 gives no constants, so none are invented beyond this), scaled
+// down where the largest |B| around the node would let the profile fold.
 #pragma once
 #include <cstddef>
 #include <vector>
@@ -25,19 +29,21 @@
 
 namespace houle {
 
+class Bathymetry;
+
 /// One train's static fields: the arrays behind its TrainGrid (empty for analytic trains).
 struct TrainField {
   double omega = 0.0;  ///< rad/s
   double phase = 0.0;  ///< rad, the train's phase offset
-  std::vector<float> phi, amplitude, kx, ky, fold, lean;
-  /// K' on the grid (0 where no wave arrived), or empty: 1 everywhere (no diffraction in this train).
-  /// Only probe() reads it.
+  std::vector<float> phi, b_re, b_im, kx, ky, fold, lean;
+  /// K' on the grid: |B| against the incident wave without the structures (0 where no wave arrived),
+  /// or empty: 1 everywhere (no pierhead diffracts this train). Only probe() reads it.
   std::vector<float> diffraction;
 };
 
 /// One train at a point: what `houle probe` reports.
 struct TrainProbe {
-  float amplitude = 0.0f;        ///< m, local A: shoaling, refraction and diffraction applied
+  float amplitude = 0.0f;        ///< m, local |B|: shoaling, refraction, diffraction and reflection applied
   float relative_amplitude = 0.0f;  ///< A / A0 (A0 the deep-water amplitude): Ks Kr K'
   float diffraction = 1.0f;      ///< K', the diffraction coefficient in A (1 without diffraction)
   float wavelength = 0.0f;       ///< m, local 2 pi / k
@@ -61,10 +67,10 @@ class SeaSurface {
   static void sample(void* context, const float* x, const float* y, std::size_t n, float* height, float* grad_x,
                      float* grad_y) noexcept;
 
-  /// Field `train` of trains() (a scene train or a reflected wave) at (x, y) at the time set last.
+  /// Train `train` of the scene at (x, y) at the time set last.
   TrainProbe probe(std::size_t train, float x, float y) const noexcept;
 
-  /// The scene's trains in order, then one field per reflected wave (WaveField::reflections).
+  /// The scene's trains in order (each with its reflected waves).
   const std::vector<TrainField>& trains() const noexcept { return trains_; }
   /// Per field of trains(), the grid the kernel evaluates (far fields included).
   const std::vector<TrainGrid>& grids() const noexcept { return grids_; }
@@ -76,11 +82,14 @@ class SeaSurface {
   // The grids point into trains_' arrays and frame_ into grids_: moving keeps both (vectors move
   // their buffers), copying would not.
   SeaSurface(const SeaSurface&) = delete;
+  /// Fills train t's grid (its geometry set) from its rays and reflected waves; returns max |B|.
+  float resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const WaveRays& rays,
+                 const std::vector<const WaveRays*>& reflected);
 
   std::vector<TrainField> trains_;
   std::vector<TrainGrid> grids_;  ///< per train, pointing into trains_' arrays
   TrainGridFrame frame_{};
-  std::vector<float> amplitude0_;  ///< per field of trains_, the deep-water A0 of its train
+  std::vector<float> amplitude0_;  ///< per train, its deep-water A0
   float height_bound_ = 0.0f;
 };
 

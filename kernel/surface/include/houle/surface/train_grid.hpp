@@ -1,20 +1,24 @@
 // Wave trains whose slowly varying fields are given on regular grids (rays traced over a sea floor
 // and resampled once per scene, houle/sim/sea_surface.hpp), evaluated as one height field per frame.
 //
-// Per train, at each grid node: phase phi (rad, the integral of k ds), amplitude A (m), wave vector
-// (kx, ky) (rad/m), fold Q and lean L (dimensionless). With the fields interpolated bilinearly at a
-// point and tau = omega t - phase the train's time phase,
-//   theta = phi - tau,   theta' = theta - Q cos theta - L sin theta,   h = A sin theta',
-//   grad h = A cos theta' (1 + Q sin theta - L cos theta) (kx, ky).
-// This is the trochoid whose particles sit at x = u + (Q cos theta + L sin theta) / k, inverted to
-// first order: Q is the orbit's horizontal excursion times k (q k A coth kh: orbits flatten into
-// ellipses as the water shoals) and L shears the crest forward (Fournier & Reeves' lean toward the
-// shore). dx/du = 1 - Q sin theta + L cos theta >= 1 - sqrt(Q^2 + L^2), so Q^2 + L^2 < 1 at every node
-// keeps the profile from folding (bilinear weights cannot raise that norm). Gradients of the trains
-// add (paper eq. 8); the gradient is that of A sin theta' with the fields held locally constant.
+// Per train, at each grid node: a carrier phase phi (rad, continuous: the phase of the first wave to
+// arrive), its wave vector (kx, ky) (rad/m), the complex amplitude B = b_re + i b_im (m) of everything
+// of the train's frequency that reaches the node, relative to the carrier (docs/physics.md 7: the
+// incident wave, the reflected waves and each pierhead's diffracted wave, summed as linear waves of one
+// frequency sum), and the fold f and lean l per metre of amplitude (1/m). With the fields
+// interpolated bilinearly at a point, tau = omega t - phase the train's time phase, theta = phi - tau and
+//   w = B e^{i theta}   (the linear wave: its imaginary part is the height of a sine profile),
+//   delta = f Re w + l Im w,   h = Im w cos delta - Re w sin delta.
+// For one wave (B = A real) this is h = A sin(theta - Q cos theta - L sin theta) with Q = f A and
+// L = l A: the trochoid whose particles sit at x = u + (Q cos theta + L sin theta) / k, inverted to
+// first order (Q the orbit's horizontal excursion times k, q k A coth kh; L shears the crest forward,
+// Fournier & Reeves' lean). dx/du >= 1 - sqrt(Q^2 + L^2), so sqrt(f^2 + l^2) |B| < 1 keeps the profile
+// from folding: the sea surface bounds f and l by the largest |B| around each node. The gradient is
+// the exact derivative of h with f, l and k held locally constant and B bilinear in its cell (where
+// waves of several directions meet, B varies within a wavelength and its gradient matters).
 //
 // Outside its grid (everywhere for a train without one) a train is straight crests with the far
-// fields: phi = far_kx x + far_ky y - far_offset.
+// fields: phi = far_kx x + far_ky y - far_offset, B = far_amplitude.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -30,12 +34,14 @@ struct TrainGrid {
   float origin_x = 0.0f, origin_y = 0.0f, cell = 1.0f;  ///< m
   std::uint32_t nx = 0, ny = 0;
   const float* phi = nullptr;
-  const float* amplitude = nullptr;
+  const float* b_re = nullptr;
+  const float* b_im = nullptr;
   const float* kx = nullptr;
   const float* ky = nullptr;
   const float* fold = nullptr;
   const float* lean = nullptr;
-  float far_kx = 0.0f, far_ky = 0.0f, far_amplitude = 0.0f, far_fold = 0.0f, far_lean = 0.0f;
+  float far_kx = 0.0f, far_ky = 0.0f, far_amplitude = 0.0f;
+  float far_fold = 0.0f, far_lean = 0.0f;  ///< 1/m, per metre of amplitude
   double far_offset = 0.0;  ///< rad
 };
 
@@ -53,7 +59,7 @@ void set_train_grid_time(TrainGridFrame& frame, const double* omega_t_minus_phas
 
 /// One train's interpolated fields at a point (far fields outside its grid); phi not reduced.
 struct TrainGridFields {
-  float phi, amplitude, kx, ky, fold, lean;
+  float phi, b_re, b_im, kx, ky, fold, lean;
 };
 TrainGridFields train_grid_fields(const TrainGrid& grid, float x, float y) noexcept;
 
