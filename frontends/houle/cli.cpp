@@ -118,10 +118,10 @@ std::optional<std::pair<int, int>> parse_size(std::string_view text) {
   return std::pair<int, int>{int(*w), int(*h)};
 }
 
-std::optional<std::vector<double>> parse_list(std::string_view text) {
+std::optional<std::vector<double>> parse_list(std::string_view text, char separator) {
   std::vector<double> out;
   while (true) {
-    const auto comma = text.find(',');
+    const auto comma = text.find(separator);
     const auto v = parse_double(text.substr(0, comma));
     if (!v) return std::nullopt;
     out.push_back(*v);

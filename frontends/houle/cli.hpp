@@ -64,7 +64,7 @@ inline constexpr long long max_image_pixels = 1ll << 26;
 inline constexpr const char* size_expected = "WxH with each in 1..16384 and at most 64 Mpixels (8192x8192)";
 /// "640x360" -> {640, 360}; nothing outside the limits above.
 std::optional<std::pair<int, int>> parse_size(std::string_view text);
-/// "1.5,-2" or "1.5,-2,3" -> the numbers.
-std::optional<std::vector<double>> parse_list(std::string_view text);
+/// "1.5,-2" or "1.5,-2,3" -> the numbers (separated by `separator`).
+std::optional<std::vector<double>> parse_list(std::string_view text, char separator = ',');
 
 }  // namespace houle::cli

@@ -1,13 +1,16 @@
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "cli.hpp"
 #include "commands.hpp"
 #include "houle/sim/effect_plan.hpp"
+#include "houle/sim/scene_geometry.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "scene_source.hpp"
 
@@ -58,6 +61,40 @@ std::size_t diffracted_rays(const WaveRays& w) {
   return n;
 }
 
+// Islands listed one by one, at most (a noisy height map can make thousands).
+constexpr std::size_t max_island_warnings = 5;
+
+// What in the scene the tracer handles poorly, one sentence each.
+std::vector<std::string> scene_warnings(const Scene& s) {
+  std::vector<std::string> out;
+  char buf[512];
+  const std::vector<Island> islands = find_islands(s);
+  for (std::size_t i = 0; i < std::min(islands.size(), max_island_warnings); ++i) {
+    const Island& is = islands[i];
+    const char* why = "(land rising through the surface inside the domain, clear of its edges): rays passing either side "
+                      "meet again in its lee, where the sea keeps one ray family per point, so the waves there may be "
+                      "wrong; check them with houle probe";
+    if (is.low.x == is.high.x && is.low.y == is.high.y) {
+      std::snprintf(buf, sizeof buf, "an island at (%.1f, %.1f) m %s", is.low.x, is.low.y, why);
+    } else {
+      std::snprintf(buf, sizeof buf, "an island from (%.1f, %.1f) to (%.1f, %.1f) m %s", is.low.x, is.low.y, is.high.x,
+                    is.high.y, why);
+    }
+    out.emplace_back(buf);
+  }
+  if (islands.size() > max_island_warnings) {
+    out.push_back(std::to_string(islands.size() - max_island_warnings) + " more islands");
+  }
+  for (const EdgePierhead& p : pierheads_near_edge(s)) {
+    std::snprintf(buf, sizeof buf,
+                  "walls[%zu] ends in the water at (%.1f, %.1f) m, %.2f m from the domain's edge, within a wavelength "
+                  "(%.2f m, train %zu): the edge cuts its diffraction fan",
+                  p.wall, p.end.x, p.end.y, p.edge_distance, p.wavelength, p.train);
+    out.emplace_back(buf);
+  }
+  return out;
+}
+
 const char* yes(bool b) { return b ? "yes" : "no"; }
 const char* json_bool(bool b) { return b ? "true" : "false"; }
 
@@ -72,7 +109,12 @@ Describes a scene (the built-in coast without SCENE): domain, sea floor, wave tr
 objects; the effect plan at quality Q (default realtime: which stages run); then builds it and
 reports per train whether it is traced, its rays, diffracted rays and samples, the reflected waves,
 the memory the rays and the resampled sea hold, and the scene build time (tracing and resampling,
-N threads, default the machine's hardware threads). --json prints the same facts as one JSON object.)");
+N threads, default the machine's hardware threads). --json prints the same facts as one JSON object.
+
+Warns (a `warning:` line; "warnings" in JSON) when the scene has an island (land rising through
+the surface inside the domain, clear of its edges; found on a grid of 1 m cells, coarser beyond
+512 m) or a wall end in the water closer to the domain's edge than a wavelength of a traced train
+(at the end's depth), whose diffraction fan the edge then cuts.)");
     return 0;
   }
   const bool json = args.flag("--json");
@@ -83,6 +125,7 @@ N threads, default the machine's hardware threads). --json prints the same facts
   const unsigned threads = run->threads;
   const Quality q = quality_preset(quality);
   const EffectPlan plan = plan_effects(s, q);
+  const std::vector<std::string> warnings = scene_warnings(s);
 
   const auto t0 = std::chrono::steady_clock::now();
   Expected<WaveField> field = trace_wave_field(s, threads);
@@ -112,6 +155,9 @@ N threads, default the machine's hardware threads). --json prints the same facts
                 quality_name(quality).data(), threads);
     std::printf(" \"domain\": [%g, %g, %g, %g], \"walls\": %zu, \"boxes\": %zu, \"spheres\": %zu,\n", s.domain.x_min,
                 s.domain.y_min, s.domain.x_max, s.domain.y_max, s.walls.size(), s.boxes.size(), s.spheres.size());
+    std::printf(" \"warnings\": [");
+    for (std::size_t i = 0; i < warnings.size(); ++i) std::printf("%s%s", i ? ", " : "", json_string(warnings[i]).c_str());
+    std::printf("],\n");
     std::printf(" \"plan\": {\"ray_tracing\": %s, \"diffraction\": %s, \"wall_reflection\": %s, \"capillary_noise\": %s, "
                 "\"refraction\": %s, \"specular\": %s, \"shadows\": %s, \"reflect_objects\": %s},\n",
                 json_bool(plan.ray_tracing), json_bool(plan.diffraction), json_bool(plan.wall_reflection),
@@ -175,6 +221,7 @@ N threads, default the machine's hardware threads). --json prints the same facts
     std::printf("  reflected wave of [%zu]: %zu rays, %zu samples\n", r.train, r.rays.ray_count(), r.rays.sample_count());
   }
   std::printf("walls: %zu, boxes: %zu, spheres: %zu\n", s.walls.size(), s.boxes.size(), s.spheres.size());
+  for (const std::string& w : warnings) std::printf("warning: %s\n", w.c_str());
   std::printf("capillary ripples: %s\n", s.capillary.amplitude > 0.0 ? "on" : "off");
   std::printf("effect plan (%s): ray tracing %s, diffraction %s, wall reflection %s, capillary noise %s, refraction %s, "
               "specular %s, shadows %s, object reflections %s\n",

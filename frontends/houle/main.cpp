@@ -16,10 +16,12 @@ Real-time animation kernel for coastal ocean scenes.
 
 commands:
   render [SCENE]        render an animation to images or raw frames (the built-in coast without SCENE)
-  probe [SCENE] --at X,Y[,T]   wave height, gradient and per-train amplitude, wavelength, direction at points
+  probe [SCENE] --at X,Y[,T]   where points lie, the depth, wave height, gradient and per-train amplitude,
+                        wavelength, direction at points and times (--times T0:T1:DT; --json or --csv)
   bench [SCENE]         frame-time median, p90, p99, max and per-stage times over N frames
   validate SCENE        check a scene file; errors give file:line:column and what was expected
-  info [SCENE]          describe a scene (the built-in coast without SCENE)
+  info [SCENE]          describe a scene (the built-in coast without SCENE); warns of islands and of
+                        pierheads near the domain's edge
   farm slurm|status     a frame range as a Slurm array job (or processes here), and its final check
 
 options:

@@ -289,11 +289,77 @@ for at in 1e9,0 1e12,0 1e30,0 0,-200001; do
   expect "probe-far $at" 2 "probe: --at .*: more than 100 km outside the domain" "$houle" probe --at "$at" --json
 done
 if "$houle" probe --at 0,0 --at 100200,-99000,1e6 --json | python3 -c 'import json,math,sys
-def finite(v): return all(finite(x) for x in (v.values() if isinstance(v, dict) else v)) if isinstance(v, (dict, list)) else math.isfinite(v)
+def finite(v): return all(finite(x) for x in (v.values() if isinstance(v, dict) else v)) if isinstance(v, (dict, list)) else isinstance(v, str) or math.isfinite(v)
 sys.exit(0 if finite(json.load(sys.stdin, parse_constant=lambda c: float(c))) else 1)'; then
   pass=$((pass + 1))
 else
   fail=$((fail + 1)); echo "FAIL probe --json near the 100 km limit: not JSON, or not finite"
+fi
+# Where a probe lies, said plainly, and the depth (the coast's 1:30 beach: (170 - y) / 30 m).
+expect probe-help 0 'x,y,t,where,depth,height,grad_x,grad_y,train,amplitude' "$houle" probe --help
+"$houle" probe --at 100,185 --at 150,150 --at 300,50 --at 100,60 >"$work/where.txt"
+if grep -q '^(100, 185) t=0 s: on land (floor 0.50 m above still water): no waves$' "$work/where.txt" &&
+   grep -q '^(150, 150) t=0 s: inside a wall: no water$' "$work/where.txt" &&
+   grep -q '^(300, 50) t=0 s: outside the domain (no rays traced; each train continues as straight crests), depth 4.00 m, height' "$work/where.txt" &&
+   grep -q '^(100, 60) t=0 s: water 3.67 m deep, height' "$work/where.txt" && [ "$(grep -c '  train ' "$work/where.txt")" -eq 6 ]; then
+  pass=$((pass + 1))
+else
+  fail=$((fail + 1)); echo "FAIL probe where (text): $(cat "$work/where.txt")"
+fi
+# A time series as JSON (point by point, time by time) and as CSV (a row per point, time and train).
+if "$houle" probe --at 100,185 --at 100,60 --times 0:1:0.25 --json | python3 -c 'import json,sys
+d = json.load(sys.stdin)
+assert [(p["x"], p["y"], p["t"]) for p in d] == [(x, y, t) for x, y in ((100, 185), (100, 60)) for t in (0, 0.25, 0.5, 0.75, 1)]
+assert [p["where"] for p in d] == ["land"] * 5 + ["water"] * 5
+assert abs(d[0]["depth"] + 0.5) < 1e-5 and abs(d[5]["depth"] - 110 / 30) < 1e-5
+assert all(len(p["trains"]) == 3 for p in d) and len({p["height"] for p in d[5:]}) == 5'; then
+  pass=$((pass + 1))
+else
+  fail=$((fail + 1)); echo "FAIL probe --times --json"
+fi
+if "$houle" probe --at 150,150 --at 100,60 --times 2:3:0.5 --csv | python3 -c 'import csv,sys
+rows = list(csv.reader(sys.stdin))
+assert rows[0] == "x,y,t,where,depth,height,grad_x,grad_y,train,amplitude,relative_amplitude,diffraction,wavelength,direction_deg,phase".split(",")
+assert len(rows) == 1 + 2 * 3 * 3 and all(len(r) == 15 for r in rows)
+assert [(r[0], r[1], r[2], r[3], r[8]) for r in rows[1:4]] == [("150", "150", "2", "wall", k) for k in "012"]
+assert [r[2] for r in rows[10::3]] == ["2", "2.5", "3"] and {r[3] for r in rows[10:]} == {"water"}
+assert all(float(v) == float(v) for r in rows[1:] for v in r[4:8] + r[9:])'; then
+  pass=$((pass + 1))
+else
+  fail=$((fail + 1)); echo "FAIL probe --times --csv"
+fi
+f=$(scene no-trains '[floor.base]
+depth = 5.0')
+expect probe-csv-no-trains 0 '^1,2,0\.5,water,5,0,0,0,,,,,,,$' "$houle" probe "$f" --at 1,2 --times 0:0.5:0.5 --csv
+expect probe-json-csv 2 'probe: --json and --csv exclude each other' "$houle" probe --at 1,2 --json --csv
+expect probe-at-t-times 2 'probe: --at 1,2,3 gives its own time, and --times gives the times of every point' "$houle" probe --at 1,2,3 --times 0:1:0.5
+expect probe-times-form 2 "probe: --times expects T0:T1:DT in s .*got '0:1'" "$houle" probe --at 1,2 --times 0:1
+expect probe-times-step 2 'probe: --times 0:1:0: the step DT must be > 0 s' "$houle" probe --at 1,2 --times 0:1:0
+expect probe-times-order 2 'probe: --times 1:0:0.1: T1 must be >= T0' "$houle" probe --at 1,2 --times 1:0:0.1
+expect probe-times-many 2 'probe: --times 0:1e9:0.001: more than 1000000 times' "$houle" probe --at 1,2 --times 0:1e9:0.001
+expect probe-times-points 2 'probe: --times 0:999999:1 at 2 points makes 2000000 probes \(points x times\), more than 1000000' "$houle" probe --at 1,2 --at 3,4 --times 0:999999:1
+# info warns of an island (Plate 3's rock breaks the surface) and of a pierhead a wavelength from the edge.
+expect info-island 0 '^warning: an island at \(70\.0, 88\.0\) m \(land rising through the surface' "$houle" info "$src/scenes/paper_plate3.toml"
+f=$(scene edge-wall '[domain]
+x_max = 200.0
+y_max = 200.0
+[floor.base]
+depth = 60.0
+[[walls]]
+points = [[60.0, 100.0], [197.0, 100.0]]
+[[trains]]
+wavelength = 4.0
+amplitude = 0.2
+direction_deg = 270.0
+[capillary]
+amplitude = 0.0')
+expect info-edge-pierhead 0 "^warning: walls\[0\] ends in the water at \(197\.0, 100\.0\) m, 3\.00 m from the domain's edge, within a wavelength \(4\.00 m, train 0\): the edge cuts its diffraction fan$" "$houle" info "$f"
+if "$houle" info "$f" --json | python3 -c 'import json,sys; w = json.load(sys.stdin)["warnings"]; sys.exit(0 if len(w) == 1 and w[0].startswith("walls[0] ends") else 1)' &&
+   "$houle" info --json | python3 -c 'import json,sys; sys.exit(0 if json.load(sys.stdin)["warnings"] == [] else 1)' &&
+   ! "$houle" info | grep -q warning; then
+  pass=$((pass + 1))
+else
+  fail=$((fail + 1)); echo "FAIL info warnings in JSON, or a warning for the built-in coast"
 fi
 expect bench 0 '^frame +[0-9.]+' "$houle" bench --frames 3 --warmup 1 --size $size --quality draft
 expect bench-json 0 '"p99"' "$houle" bench --frames 2 --warmup 0 --size $size --quality draft --json
