@@ -1,4 +1,4 @@
-// The Sommerfeld modulus for the ray tracer's K' knots (wave_tracing.cpp): the field of
+// The Sommerfeld modulus for the ray tracer's K' knots (tracer_k_factor.cpp): the field of
 // houle::sommerfeld_field with the tabulated Fresnel auxiliary function. Internal to houle_sim.
 #pragma once
 
