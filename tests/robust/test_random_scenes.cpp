@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <random>
+#include <string>
 
 #include "surface_checks.hpp"
 #include "emulation.hpp"
@@ -156,6 +157,90 @@ TEST(RandomScenes, FiniteBoundedAndNoEnergyCreated) {
               worst_height, worst_jump_ratio, skipped, edge_ratio, worst_pixel);
   EXPECT_GT(traced, 0u);
   EXPECT_GT(worst.crossed, 0u);  // the sweep reached caustics
+}
+
+// Adding an obstacle never changes the field upstream of it by more than what it sends back: for a
+// shoal (submerged or an island) nothing; for a wall its reflected wave (alpha) and the diffraction
+// tails of its ends (below 0.15 more than 2 L from the wall: |G(s) - 1| < 0.15 for s > 1.9). Random
+// floors, trains and obstacles; "upstream" is more than 2 local wavelengths before the obstacle's
+// footprint along the train's direction, and inside the domain.
+TEST(RandomScenes, AnObstacleChangesNothingUpstreamBeyondWhatItSendsBack) {
+  Random r(20261203);
+  double worst_shoal = 0.0, worst_wall = 0.0;
+  int compared = 0;
+  for (int i = 0; i < scene_count; ++i) {
+    houle::Scene base;
+    const double side = r.uniform(80.0, 200.0);
+    base.domain = {0.0, 0.0, side, side};
+    base.floor.base.depth = r.uniform(4.0, 30.0);
+    if (r.integer(0, 1) == 1) {
+      base.floor.base.kind = houle::FloorKind::planar_beach;
+      base.floor.base.slope = r.uniform(0.002, 0.02);
+      base.floor.base.shoreward_deg = 90.0;
+      base.floor.base.shoreline = {0.0, side * r.uniform(1.5, 3.0)};
+    }
+    houle::WaveTrain t;
+    t.direction_deg = r.uniform(60.0, 120.0);
+    t.period = r.uniform(2.0, 6.0);
+    t.amplitude = 0.1;
+    t.steepness = 0.0;
+    base.trains = {t};
+    base.capillary.amplitude = 0.0;
+    base.dwt.analytic_shortcut = false;  // the same tracer with and without the obstacle
+    houle::Scene with = base;
+    // The obstacle in the domain's upper half; its footprint as a disc (centre, radius).
+    const double cx = r.uniform(0.3, 0.7) * side, cy = r.uniform(0.55, 0.8) * side;
+    double radius = 0.0, alpha = 0.0;
+    const bool wall = r.integer(0, 1) == 1;
+    if (wall) {
+      const double half = r.uniform(5.0, 0.25 * side), turn = r.uniform(-0.6, 0.6);
+      houle::Wall w;
+      w.points = {{cx - half * std::cos(turn), cy - half * std::sin(turn)}, {cx + half * std::cos(turn), cy + half * std::sin(turn)}};
+      w.thickness = r.uniform(0.0, 3.0);
+      w.reflection = alpha = r.uniform(0.0, 1.0);
+      with.walls = {w};
+      radius = half + w.thickness;
+    } else {
+      houle::Shoal sh;
+      sh.center = {cx, cy};
+      sh.semi_axis_a = sh.semi_axis_b = r.uniform(4.0, 0.15 * side);
+      sh.height = base.floor.base.depth * r.uniform(0.5, 1.5);  // submerged or an island
+      with.floor.shoals = {sh};
+      radius = sh.semi_axis_a;
+    }
+    ASSERT_TRUE(houle::validate(with)) << "scene " << i;
+    const auto sea_of = [](const houle::Scene& s) {
+      const houle::Expected<houle::WaveField> f = houle::trace_wave_field(s, 2);
+      EXPECT_TRUE(f);
+      return houle::SeaSurface::build(s, f.value(), 0.5f).value();
+    };
+    const houle::SeaSurface a = sea_of(base), b = sea_of(with);
+    const double dx = std::cos(t.direction_deg * 3.141592653589793 / 180.0), dy = std::sin(t.direction_deg * 3.141592653589793 / 180.0);
+    double worst = 0.0;
+    for (double y = 2.0; y < side - 2.0; y += side / 40.0) {
+      for (double x = 2.0; x < side - 2.0; x += side / 40.0) {
+        const houle::TrainProbe pa = a.probe(0, float(x), float(y)), pb = b.probe(0, float(x), float(y));
+        ASSERT_TRUE(std::isfinite(pb.relative_amplitude) && std::isfinite(pb.phase)) << "scene " << i;
+        EXPECT_LE(pb.relative_amplitude, 2.0f * 2.5f) << "scene " << i;  // incident + reflected, caustic cap
+        const double before = (cx - x) * dx + (cy - y) * dy - radius;  // m upstream of the footprint
+        if (before < 2.0 * pa.wavelength || pa.relative_amplitude <= 0.0f) continue;
+        worst = std::max(worst, std::fabs(double(pb.relative_amplitude) - double(pa.relative_amplitude)) /
+                                    double(pa.relative_amplitude));
+        ++compared;
+      }
+    }
+    std::printf("scene %d: %s, upstream change %.4f of the incident amplitude\n", i,
+                wall ? ("wall, alpha " + std::to_string(alpha)).c_str() : "shoal", worst);
+    if (wall) {
+      EXPECT_LE(worst, alpha + 0.15) << "scene " << i;
+      worst_wall = std::max(worst_wall, worst - alpha);
+    } else {
+      EXPECT_LE(worst, 0.02) << "scene " << i;
+      worst_shoal = std::max(worst_shoal, worst);
+    }
+  }
+  std::printf("worst: upstream of a shoal %.4f, of a wall %.4f beyond alpha (%d points)\n", worst_shoal, worst_wall, compared);
+  EXPECT_GT(compared, 0);
 }
 
 }  // namespace
