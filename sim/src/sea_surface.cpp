@@ -10,6 +10,7 @@
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
+#include "carrier_march.hpp"
 #include "ray_walls.hpp"
 
 namespace houle {
@@ -69,11 +70,13 @@ struct GridGeometry {
   double y(std::size_t n) const noexcept { return y0 + double(n / nx) * cell; }
 };
 
-/// One ray family (a set of rays that never overlap one another: the incident rays of a train, or a
-/// reflected wave) resampled onto the grid. Each sample is extrapolated to the node along its wave
-/// vector and tent-weighted; the complex amplitude is kept relative to the far field's phase psi at
-/// the node (any continuous reference would do) so that samples of different phases add as waves.
-/// Normalised per family: where a family's rays thin out, its amplitude does not fade. A sample does
+/// One ray family (the incident rays of a train, or a reflected wave) resampled onto the grid. Each
+/// sample is extrapolated to the node along its wave vector and tent-weighted; the complex amplitude
+/// is kept relative to the far field's phase psi at the node (any continuous reference would do) so
+/// that samples of different phases add as waves. Normalised per family: where a family's rays thin
+/// out, its amplitude does not fade. The family's phase at a node is the least extrapolated phase of
+/// the samples there (the first branch to arrive where rays crossed: a mean of two branches' phases
+/// would be neither, and jumps as the samples change), with that sample's wave vector. A sample does
 /// not reach nodes across a wall (the two faces of a thin wall see different waves).
 struct FamilyField {
   std::vector<double> weight, phase, re, im, kx, ky;
@@ -82,7 +85,8 @@ struct FamilyField {
   void splat(const GridGeometry& g, const TrainGrid& far, const WaveRays& rays, Keep&& keep, double radius,
              const std::vector<detail::Capsule>& walls) {
     const std::size_t nodes = g.nx * g.ny;
-    for (std::vector<double>* v : {&weight, &phase, &re, &im, &kx, &ky}) v->assign(nodes, 0.0);
+    for (std::vector<double>* v : {&weight, &re, &im, &kx, &ky}) v->assign(nodes, 0.0);
+    phase.assign(nodes, INFINITY);
     const int reach = int(std::ceil(radius / g.cell));
     const double fkx = far.far_kx, fky = far.far_ky;
     double wall_radius = 0.0;
@@ -123,11 +127,14 @@ struct FamilyField {
             if (check_walls && detail::first_wall_hit(walls, sx, sy, g.x(n), g.y(n)).hit) continue;
             const double w = wx * wy;
             weight[n] += w;
-            phase[n] += w * (phi0 + ksx * (i - i0) * g.cell + ksy * (j - j0) * g.cell);
             re[n] += w * z.real();
             im[n] += w * z.imag();
-            kx[n] += w * ksx;
-            ky[n] += w * ksy;
+            const double at_node = phi0 + ksx * (i - i0) * g.cell + ksy * (j - j0) * g.cell;
+            if (at_node < phase[n]) {
+              phase[n] = at_node;
+              kx[n] = ksx;
+              ky[n] = ksy;
+            }
           }
         }
       }
@@ -135,11 +142,8 @@ struct FamilyField {
     for (std::size_t n = 0; n < nodes; ++n) {
       if (weight[n] <= min_weight) continue;
       const double inv = 1.0 / weight[n];
-      phase[n] *= inv;
       re[n] *= inv;
       im[n] *= inv;
-      kx[n] *= inv;
-      ky[n] *= inv;
     }
   }
   bool covers(std::size_t n) const noexcept { return weight[n] > min_weight; }
@@ -366,9 +370,6 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
 
   for (std::vector<float>* v : {&f.phi, &f.b_re, &f.b_im, &f.kx, &f.ky, &f.fold, &f.lean}) v->assign(nodes, 0.0f);
   f.diffraction.assign(pierheads.empty() ? 0 : nodes, 0.0f);
-  std::vector<double> magnitude(nodes, 0.0);
-  const double omega = rays.omega;
-  const LinearWave uniform_wave = linear_wave(omega, std::max(floor.depth(geo.x0, geo.y0), min_depth));
   std::vector<FamilyField> reflections(reflected.size());
   for (std::size_t r = 0; r < reflected.size(); ++r) {
     // Rays reflected off a pierhead's rounded end would spray its reflection round the tip: the
@@ -384,30 +385,32 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     reflections[r].splat(geo, g, w, off_the_face, radius, walls);
   }
 
-  std::vector<PierheadView> views(pierheads.size());
   std::vector<RadialTable> radials;
   const double far_corner = std::hypot(double(geo.nx - 1) * geo.cell, double(geo.ny - 1) * geo.cell);
   for (const Pierhead& p : pierheads) radials.emplace_back(p, floor, walls, rays.omega, rays.min_depth, far_corner, double(g.cell));
+  const double omega = rays.omega;
+  const LinearWave uniform_wave = linear_wave(omega, std::max(floor.depth(geo.x0, geo.y0), min_depth));
+  const auto breaking_limit = [&](double h, const LinearWave& w) {
+    return std::min(0.5 * scene.dwt.breaker_index * h, 0.071 * two_pi / w.k * std::tanh(w.kh));
+  };
+
+  // Pass 1, per node: everything of the train's frequency that arrives, summed relative to the far
+  // field's phase psi; the incident rays' phase seeds the carrier where they are lit.
+  std::vector<float> depths(nodes), wavenumber(nodes, 0.0f);
+  std::vector<cplx> sums(nodes, 0.0);
+  std::vector<std::uint8_t> has_wave(nodes, 0);
+  std::vector<double> carrier(nodes, NAN), carrier_kx(nodes, 0.0), carrier_ky(nodes, 0.0), reference(nodes, 0.0);
+  std::vector<PierheadView> views(pierheads.size());
   for (std::size_t n = 0; n < nodes; ++n) {
     const double x = geo.x(n), y = geo.y(n);
     const double psi = double(g.far_kx) * x + double(g.far_ky) * y - g.far_offset;
     const double depth = floor.depth(x, y);
-    if (!(depth > rays.min_depth)) {
-      // Land, where the rays end: no wave. The far field's phase and direction keep interpolation
-      // towards the node smooth.
-      f.phi[n] = float(psi);
-      f.kx[n] = g.far_kx;
-      f.ky[n] = g.far_ky;
-      continue;
-    }
-    const double h = std::max(depth, min_depth);
-    const LinearWave wave = floor.uniform() ? uniform_wave : linear_wave(omega, h);
-    // Candidates for the carrier: the first wave to arrive (least phase) is continuous across every
-    // shadow line (there the incident and the diffracted phases agree).
-    double carrier = INFINITY, ckx = g.far_kx, cky = g.far_ky;
-    const auto offer = [&](double phase, double kx, double ky) {
-      if (phase < carrier) carrier = phase, ckx = kx, cky = ky;
-    };
+    depths[n] = float(depth);
+    if (!(depth > 0.0)) continue;  // land: no wave, and the carrier does not cross it
+    const LinearWave wave = floor.uniform() ? uniform_wave : linear_wave(omega, depth);
+    wavenumber[n] = float(wave.k);
+    // Where the rays stopped short of the shore nothing arrives here: the shoreline pass below.
+    if (!(depth > rays.min_depth)) continue;
     // Each pierhead's frame at this node, the optical distance k r from it and its incident
     // amplitude shoaled from M to here.
     for (std::size_t q = 0; q < pierheads.size(); ++q) {
@@ -418,21 +421,18 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       v.reached = radials[q].optical_distance(x - p.site.x, y - p.site.y, v.polar.r, v.k_r);
       v.amplitude = p.amplitude * shoaling_coefficient(wave.kh) / shoaling_coefficient(p.k * p.depth);
     }
-    // Pierhead q's geometric-optics plane wave (incident: sign -1, along the shadow line; reflected:
-    // sign +1, along the mirror line), offered as a carrier; relative to psi.
+    // Pierhead q's geometric-optics plane wave, relative to psi (incident: sign -1, along the shadow
+    // line; reflected: sign +1, along the mirror line).
     const auto plane_wave = [&](std::size_t q, double sign) {
       const Pierhead& p = pierheads[q];
       const PierheadView& v = views[q];
       const double phase = p.phase - v.k_r * std::cos(v.polar.theta + sign * v.polar.theta0);
-      const double dx = sign < 0.0 ? p.shadow_x : p.mirror_x, dy = sign < 0.0 ? p.shadow_y : p.mirror_y;
-      offer(phase, wave.k * dx, wave.k * dy);
       return v.amplitude * (sign < 0.0 ? 1.0 : p.site.reflection) * std::polar(1.0, phase - psi);
     };
-    // Sums relative to psi.
-    cplx sum = 0.0, reference = 0.0;
+    cplx sum = 0.0;
     // The incident rays, cut at every pierhead's shadow line. The last ray may pass up to a ray
     // spacing from M: where none reached near the line, the pierhead's plane wave fills the gap.
-    if (incident.covers(n)) reference = cplx(incident.re[n], incident.im[n]);
+    if (incident.covers(n)) reference[n] = std::hypot(incident.re[n], incident.im[n]);
     bool lit = incident.covers(n);
     std::size_t fill = pierheads.size();
     for (std::size_t q = 0; q < pierheads.size(); ++q) {
@@ -445,15 +445,17 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       }
     }
     if (lit) {
-      sum += reference;
-      offer(incident.phase[n], incident.kx[n], incident.ky[n]);
+      sum += cplx(incident.re[n], incident.im[n]);
+      carrier[n] = incident.phase[n];
+      carrier_kx[n] = incident.kx[n];
+      carrier_ky[n] = incident.ky[n];
     } else if (fill < pierheads.size()) {
       sum += plane_wave(fill, -1.0);
     }
+    bool arrived = lit || fill < pierheads.size();
     // The reflected waves, cut and filled in the same way at their shadow lines (the exact model
     // diffracts them; the paper's models do not, and leave them as traced).
     bool reflection_covers = false;
-    fill = pierheads.size();
     for (const FamilyField& r : reflections) {
       if (!r.covers(n)) continue;
       reflection_covers = true;
@@ -465,17 +467,18 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       }
       if (beyond) continue;
       sum += cplx(r.re[n], r.im[n]);
-      offer(r.phase[n], r.kx[n], r.ky[n]);
+      arrived = true;
     }
     for (std::size_t q = 0; q < pierheads.size() && model == DiffractionModel::exact && !reflection_covers; ++q) {
       const Pierhead& p = pierheads[q];
       if (p.site.reflection <= 0.0 || from_half_line(x, y, p.site.x, p.site.y, p.mirror_x, p.mirror_y) >= band) continue;
       if (beyond_reflection(views[q].polar)) continue;
       sum += plane_wave(q, 1.0);
+      arrived = true;
       break;
     }
     // Each pierhead's diffracted wave: the semi-infinite solution minus its geometric-optics part
-    // (docs/physics.md 4.5), or a paper model's coefficient minus the incident wave.
+    // (docs/physics.md 4.7), or a paper model's coefficient minus the incident wave.
     for (std::size_t q = 0; q < pierheads.size(); ++q) {
       const Pierhead& p = pierheads[q];
       const PierheadView& v = views[q];
@@ -494,46 +497,89 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
         if (!in_shadow(v.polar)) d -= go1;
       }
       sum += v.amplitude * d * std::polar(1.0, p.phase - psi);
-      const double r = std::max(v.polar.r, 1e-9);
-      offer(p.phase + v.k_r, wave.k * (x - p.site.x) / r, wave.k * (y - p.site.y) / r);
+      arrived = true;
     }
-    if (!std::isfinite(carrier)) {
-      // No wave reaches this node: keep the far field's phase and direction so that interpolation
-      // towards it is smooth.
-      f.phi[n] = float(psi);
-      f.kx[n] = g.far_kx;
-      f.ky[n] = g.far_ky;
-      continue;
+    // K' is against the incident wave without the structures: where its rays did not reach, the
+    // nearest pierhead's incident amplitude shoaled to here.
+    if (!incident.covers(n) && !pierheads.empty()) {
+      std::size_t nearest = 0;
+      for (std::size_t q = 1; q < pierheads.size(); ++q) {
+        if (views[q].polar.r < views[nearest].polar.r) nearest = q;
+      }
+      reference[n] = views[nearest].amplitude;
     }
-    cplx b = sum * std::polar(1.0, psi - carrier);
-    // The waves that meet here break as one: H <= gamma_b h and H <= 0.142 L tanh kh (the tracer
-    // caps each ray so; their sum, and the diffracted wave shoaled into shallow water, need it too).
-    const double limit = std::min(0.5 * scene.dwt.breaker_index * h, 0.071 * two_pi / wave.k * std::tanh(wave.kh));
+    sums[n] = sum;
+    has_wave[n] = arrived ? 1 : 0;
+  }
+
+  // The carrier where no lit incident ray set it: first arrivals through the water from where they
+  // did, continuous across shadow lines and the ends of ray coverage; the far field's phase where
+  // nothing connects (a pond cut off by land).
+  detail::march_carrier(geo.nx, geo.ny, geo.cell, wavenumber, carrier, carrier_kx, carrier_ky);
+
+  // Pass 2: the sum relative to the carrier, capped by breaking (the waves that meet at a node
+  // break as one: each ray is capped so, their sum and a diffracted wave shoaled into shallow water
+  // need it too), and the shape.
+  std::vector<double> magnitude(nodes, 0.0);
+  for (std::size_t n = 0; n < nodes; ++n) {
+    const double x = geo.x(n), y = geo.y(n);
+    const double psi = double(g.far_kx) * x + double(g.far_ky) * y - g.far_offset;
+    if (!std::isfinite(carrier[n])) {
+      carrier[n] = psi;
+      carrier_kx[n] = g.far_kx;
+      carrier_ky[n] = g.far_ky;
+    }
+    f.phi[n] = float(carrier[n]);
+    f.kx[n] = float(carrier_kx[n]);
+    f.ky[n] = float(carrier_ky[n]);
+    if (!has_wave[n]) continue;
+    const double h = std::max(double(depths[n]), min_depth);
+    const LinearWave wave = floor.uniform() ? uniform_wave : linear_wave(omega, h);
+    cplx b = sums[n] * std::polar(1.0, psi - carrier[n]);
+    const double limit = breaking_limit(h, wave);
     if (std::abs(b) > limit) b *= limit / std::abs(b);
-    f.phi[n] = float(carrier);
     f.b_re[n] = float(b.real());
     f.b_im[n] = float(b.imag());
-    f.kx[n] = float(ckx);
-    f.ky[n] = float(cky);
     magnitude[n] = std::abs(b);
     double fold, lean;
-    shape(steepness, std::hypot(ckx, cky), h, fold, lean);
+    shape(steepness, std::hypot(carrier_kx[n], carrier_ky[n]), h, fold, lean);
     f.fold[n] = float(fold);
     f.lean[n] = float(lean);
-    if (!f.diffraction.empty()) {
-      // K': the wave here against the incident wave without the structures (its rays where they
-      // reached, else the nearest pierhead's incident amplitude shoaled to here).
-      double a_ref = std::abs(reference);
-      if (!(a_ref > 0.0)) {
-        double best = INFINITY;
-        for (std::size_t q = 0; q < pierheads.size(); ++q) {
-          if (views[q].polar.r < best) {
-            best = views[q].polar.r;
-            a_ref = views[q].amplitude;
-          }
-        }
-      }
-      f.diffraction[n] = a_ref > 0.0 ? float(std::abs(b) / a_ref) : 0.0f;
+    if (!f.diffraction.empty()) f.diffraction[n] = reference[n] > 0.0 ? float(magnitude[n] / reference[n]) : 0.0f;
+  }
+
+  // Between the depth where the rays stop (h_min) and the waterline nothing was traced: the nearest
+  // wave goes on there along its wave vector, its height capped by breaking, so it dies out at the
+  // waterline instead of ending in a step (breadth first from the nodes with a wave: deterministic).
+  std::vector<std::uint32_t> queue;
+  for (std::size_t n = 0; n < nodes; ++n) {
+    if (has_wave[n]) queue.push_back(std::uint32_t(n));
+  }
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const std::size_t n = queue[head], i = n % geo.nx, j = n / geo.nx;
+    const std::size_t around[4] = {i > 0 ? n - 1 : n, i + 1 < geo.nx ? n + 1 : n, j > 0 ? n - geo.nx : n,
+                                   j + 1 < geo.ny ? n + geo.nx : n};
+    for (std::size_t m : around) {
+      if (has_wave[m] || !(depths[m] > 0.0f) || depths[m] > rays.min_depth) continue;
+      has_wave[m] = 1;
+      queue.push_back(std::uint32_t(m));
+      // The wave keeps its direction; its phase advances by the mean k of both nodes; relative to
+      // m's own carrier.
+      const double h = double(depths[m]), k = std::hypot(double(f.kx[n]), double(f.ky[n]));
+      const LinearWave wave = linear_wave(omega, h);
+      const double scale = magnitude[n] > breaking_limit(h, wave) ? breaking_limit(h, wave) / magnitude[n] : 1.0;
+      const double ux = k > 0.0 ? double(f.kx[n]) / k : 0.0, uy = k > 0.0 ? double(f.ky[n]) / k : 0.0;
+      const double along = ux * (geo.x(m) - geo.x(n)) + uy * (geo.y(m) - geo.y(n));
+      const double turn = double(f.phi[n]) + 0.5 * (k + wave.k) * along - double(f.phi[m]);
+      const cplx b = cplx(f.b_re[n], f.b_im[n]) * scale * std::polar(1.0, turn);
+      f.b_re[m] = float(b.real());
+      f.b_im[m] = float(b.imag());
+      magnitude[m] = magnitude[n] * scale;
+      double fold, lean;
+      shape(steepness, std::hypot(double(f.kx[m]), double(f.ky[m])), h, fold, lean);
+      f.fold[m] = float(fold);
+      f.lean[m] = float(lean);
+      if (!f.diffraction.empty()) f.diffraction[m] = float(double(f.diffraction[n]) * scale);
     }
   }
   // The fold-free bound sqrt(Q^2 + L^2) <= max_fold holds for any bilinear mix of a cell's corners:

@@ -23,8 +23,9 @@ for p, values in enumerate(pixels):  # row by row from the top, as raw frames ar
     for i in range(3):
         # The error the format may make: half's 11-bit mantissa per value (and half its smallest
         # subnormal, 2^-25, below which a value becomes 0), RGBE's 8 truncated bits of the pixel's
-        # largest channel, none for float.
-        allowed = {"half": abs(a[i]) * 2.0**-11 + 2.0**-25, "rgbe": max(a) * 2.0**-7, "float": abs(a[i]) * 1e-8}[precision] + 1e-30
+        # largest channel; none for float, whose bits the dump prints to about 8 significant digits
+        # (so one float epsilon, 2^-23, relative).
+        allowed = {"half": abs(a[i]) * 2.0**-11 + 2.0**-25, "rgbe": max(a) * 2.0**-7, "float": abs(a[i]) * 2.0**-23}[precision] + 1e-30
         worst = max(worst, abs(a[i] - b[i]) / allowed)
 if worst > 1.0:
     sys.exit(f"{dump_path}: off the raw linear frame by {worst:.3g} times the {precision} format's precision")

@@ -1,0 +1,17 @@
+// The carrier phase of a train's sea grid where no incident ray reached (docs/physics.md 2.8): the
+// lee of walls and islands, the shallows beyond the rays' last samples. Internal to houle_sim.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+namespace houle::detail {
+
+/// Extends `phase` (rad per node, NaN where unset) from the nodes that have one to every node with
+/// k[n] > 0 reachable from them, as first arrivals: Dijkstra over a 16-neighbour stencil (the
+/// knight's moves cut the grid's anisotropy to 2.6 %), each move costing the mean of its two nodes' k
+/// times its length. Every phase set here has a wave vector (kx, ky): the central difference of the
+/// phases around it, one-sided at the edge of what was set. Deterministic: ties go to the lower node.
+void march_carrier(std::size_t nx, std::size_t ny, double cell, const std::vector<float>& k, std::vector<double>& phase,
+                   std::vector<double>& kx, std::vector<double>& ky);
+
+}  // namespace houle::detail
