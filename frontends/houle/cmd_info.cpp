@@ -51,14 +51,8 @@ std::size_t bytes(std::span<const T> v) {
 // Heap bytes held by one train's rays.
 std::size_t ray_bytes(const WaveRays& w) {
   return bytes(w.sample_begin) + bytes(w.first_step) + bytes(w.flags) + bytes(w.parent_a) + bytes(w.parent_b) +
-         bytes(w.pierhead) + bytes(w.x) + bytes(w.y) + bytes(w.theta) + bytes(w.k) + bytes(w.amplitude) + bytes(w.phase) +
-         bytes(w.time) + bytes(w.sample_flags) + bytes(w.diffraction) + bytes(w.pierheads);
-}
-
-std::size_t diffracted_rays(const WaveRays& w) {
-  std::size_t n = 0;
-  for (const std::uint8_t f : w.flags) n += (f & ray_flag::diffracted) ? 1 : 0;
-  return n;
+         bytes(w.x) + bytes(w.y) + bytes(w.theta) + bytes(w.k) + bytes(w.amplitude) + bytes(w.phase) + bytes(w.time) +
+         bytes(w.sample_flags);
 }
 
 // Islands listed one by one, at most (a noisy height map can make thousands).
@@ -88,7 +82,7 @@ std::vector<std::string> scene_warnings(const Scene& s) {
   for (const EdgePierhead& p : pierheads_near_edge(s)) {
     std::snprintf(buf, sizeof buf,
                   "walls[%zu] ends in the water at (%.1f, %.1f) m, %.2f m from the domain's edge, within a wavelength "
-                  "(%.2f m, train %zu): the edge cuts its diffraction fan",
+                  "(%.2f m, train %zu): waves pass between it and the edge, and diffract round it",
                   p.wall, p.end.x, p.end.y, p.edge_distance, p.wavelength, p.train);
     out.emplace_back(buf);
   }
@@ -107,14 +101,15 @@ int cmd_info(std::span<char* const> argv) {
 
 Describes a scene (the built-in coast without SCENE): domain, sea floor, wave trains, structures and
 objects; the effect plan at quality Q (default realtime: which stages run); then builds it and
-reports per train whether it is traced, its rays, diffracted rays and samples, the reflected waves,
-the memory the rays and the resampled sea hold, and the scene build time (tracing and resampling,
-N threads, default the machine's hardware threads). --json prints the same facts as one JSON object.
+reports per train whether it is traced, its rays and samples, the reflected waves, the diffraction
+the resampled sea computed (pierheads, and grid nodes x pierheads evaluated), the memory the rays and
+the resampled sea hold, and the scene build time (tracing and resampling, N threads, default the
+machine's hardware threads). --json prints the same facts as one JSON object.
 
 Warns (a `warning:` line; "warnings" in JSON) when the scene has an island (land rising through
 the surface inside the domain, clear of its edges; found on a grid of 1 m cells, coarser beyond
 512 m) or a wall end in the water closer to the domain's edge than a wavelength of a traced train
-(at the end's depth), whose diffraction fan the edge then cuts.)");
+(at the end's depth): waves pass the gap between it and the edge, which may not be what was meant.)");
     return 0;
   }
   const bool json = args.flag("--json");
@@ -148,6 +143,7 @@ the surface inside the domain, clear of its edges; found on a grid of 1 m cells,
     sea_memory += bytes(f.phi) + bytes(f.b_re) + bytes(f.b_im) + bytes(f.kx) + bytes(f.ky) + bytes(f.fold) + bytes(f.lean);
   }
   const DwtStats& st = field->stats;
+  const DiffractionWork& dw = sea->diffraction_work();
   const std::string& name = run->name;
 
   if (json) {
@@ -170,10 +166,10 @@ the surface inside the domain, clear of its edges; found on a grid of 1 m cells,
       const double omega = train_omega(t);
       const Point2 d = train_direction(t);
       std::printf("%s\n  {\"period_s\": %.6g, \"deep_wavelength_m\": %.6g, \"amplitude_m\": %g, \"direction_deg\": %.6g, "
-                  "\"traced\": %s, \"rays\": %zu, \"diffracted_rays\": %zu, \"samples\": %zu}",
+                  "\"traced\": %s, \"rays\": %zu, \"samples\": %zu}",
                   i ? "," : "", 2.0 * std::numbers::pi / omega, 2.0 * std::numbers::pi * 9.81 / (omega * omega),
                   t.amplitude, std::atan2(d.y, d.x) * 180.0 / std::numbers::pi, json_bool(plan.train_rays[i]),
-                  w.ray_count(), diffracted_rays(w), w.sample_count());
+                  w.ray_count(), w.sample_count());
     }
     std::printf("],\n \"reflections\": [");
     for (std::size_t i = 0; i < field->reflections.size(); ++i) {
@@ -181,16 +177,17 @@ the surface inside the domain, clear of its edges; found on a grid of 1 m cells,
       std::printf("%s{\"train\": %zu, \"rays\": %zu, \"samples\": %zu}", i ? ", " : "", r.train, r.rays.ray_count(),
                   r.rays.sample_count());
     }
-    std::printf("],\n \"totals\": {\"rays\": %llu, \"initial_rays\": %llu, \"inserted_rays\": %llu, \"diffracted_rays\": %llu, "
-                "\"reflected_rays\": %llu, \"samples\": %llu, \"steps\": %llu, \"fans\": %llu, \"diffraction_evaluations\": %llu, "
+    std::printf("],\n \"totals\": {\"rays\": %llu, \"initial_rays\": %llu, \"inserted_rays\": %llu, "
+                "\"reflected_rays\": %llu, \"samples\": %llu, \"steps\": %llu, "
                 "\"crossings\": %llu, \"broken_rays\": %llu, \"turned_back\": %llu, \"shared_steps\": %llu, \"truncated\": %s},\n",
                 static_cast<unsigned long long>(st.rays), static_cast<unsigned long long>(st.initial_rays),
-                static_cast<unsigned long long>(st.inserted_rays), static_cast<unsigned long long>(st.diffracted_rays),
-                static_cast<unsigned long long>(st.reflected_rays), static_cast<unsigned long long>(st.samples),
-                static_cast<unsigned long long>(st.steps), static_cast<unsigned long long>(st.fans),
-                static_cast<unsigned long long>(st.diffraction_evaluations), static_cast<unsigned long long>(st.crossings),
-                static_cast<unsigned long long>(st.broken_rays), static_cast<unsigned long long>(st.turned_back),
-                static_cast<unsigned long long>(st.shared_steps), json_bool(st.truncated));
+                static_cast<unsigned long long>(st.inserted_rays), static_cast<unsigned long long>(st.reflected_rays),
+                static_cast<unsigned long long>(st.samples), static_cast<unsigned long long>(st.steps),
+                static_cast<unsigned long long>(st.crossings), static_cast<unsigned long long>(st.broken_rays),
+                static_cast<unsigned long long>(st.turned_back), static_cast<unsigned long long>(st.shared_steps),
+                json_bool(st.truncated));
+    std::printf(" \"sea_diffraction\": {\"pierheads\": %zu, \"evaluations\": %llu},\n", dw.pierheads,
+                static_cast<unsigned long long>(dw.evaluations));
     std::printf(" \"memory_bytes\": {\"rays\": %zu, \"sea_grid\": %zu},\n", rays_memory, sea_memory);
     std::printf(" \"build_ms\": {\"trace\": %.3f, \"sea_surface\": %.3f, \"total\": %.3f}}\n", trace_ms, sea_ms,
                 trace_ms + sea_ms);
@@ -212,7 +209,7 @@ the surface inside the domain, clear of its edges; found on a grid of 1 m cells,
                 2.0 * std::numbers::pi / omega, 2.0 * std::numbers::pi * 9.81 / (omega * omega), t.amplitude,
                 std::atan2(d.y, d.x) * 180.0 / std::numbers::pi);
     if (plan.train_rays[i]) {
-      std::printf("      traced: %zu rays (%zu diffracted), %zu samples\n", w.ray_count(), diffracted_rays(w), w.sample_count());
+      std::printf("      traced: %zu rays, %zu samples\n", w.ray_count(), w.sample_count());
     } else {
       std::printf("      analytic: straight crests, no rays\n");
     }
@@ -228,14 +225,15 @@ the surface inside the domain, clear of its edges; found on a grid of 1 m cells,
               quality_name(quality).data(), yes(plan.ray_tracing), yes(plan.diffraction), yes(plan.wall_reflection),
               yes(plan.capillary_noise), yes(plan.refraction), yes(plan.specular), yes(plan.shadows),
               yes(plan.reflect_objects));
-  std::printf("rays: %llu (%llu initial, %llu inserted, %llu diffracted, %llu reflected), %llu samples, %llu diffraction "
-              "evaluations, %llu wavefront steps (%llu shared by two lanes), %llu turned back by refraction%s\n",
+  std::printf("rays: %llu (%llu initial, %llu inserted, %llu reflected), %llu samples, %llu wavefront steps (%llu shared "
+              "by two lanes), %llu turned back by refraction%s\n",
               static_cast<unsigned long long>(st.rays), static_cast<unsigned long long>(st.initial_rays),
-              static_cast<unsigned long long>(st.inserted_rays), static_cast<unsigned long long>(st.diffracted_rays),
-              static_cast<unsigned long long>(st.reflected_rays), static_cast<unsigned long long>(st.samples),
-              static_cast<unsigned long long>(st.diffraction_evaluations), static_cast<unsigned long long>(st.steps),
+              static_cast<unsigned long long>(st.inserted_rays), static_cast<unsigned long long>(st.reflected_rays),
+              static_cast<unsigned long long>(st.samples), static_cast<unsigned long long>(st.steps),
               static_cast<unsigned long long>(st.shared_steps), static_cast<unsigned long long>(st.turned_back),
               st.truncated ? " (TRUNCATED at a cap)" : "");
+  std::printf("diffracted waves (sea surface): %zu (pierheads x trains), computed at %llu grid nodes in all\n",
+              dw.pierheads, static_cast<unsigned long long>(dw.evaluations));
   std::printf("memory: rays %.2f MiB, sea grids %.2f MiB\n", double(rays_memory) / 1048576.0, double(sea_memory) / 1048576.0);
   std::printf("build time: %.2f ms (tracing %.2f ms, resampling %.2f ms, %u threads)\n", trace_ms + sea_ms, trace_ms, sea_ms,
               threads);

@@ -6,7 +6,6 @@
 #include <string>
 
 #include "fresnel_integrals.hpp"
-#include "sommerfeld_tabulated.hpp"
 
 namespace houle {
 namespace {
@@ -170,22 +169,6 @@ std::complex<double> sommerfeld_field(double k_r, double theta, double theta0, d
   const double s = std::sqrt(4.0 / pi * k_r);
   const cplx radial = std::polar(1.0, k_r);
   return sommerfeld_term(s, k_r, theta - theta0, radial) + alpha * sommerfeld_term(s, k_r, theta + theta0, radial);
-}
-
-namespace {
-// sommerfeld_term e^{-ikr} at Fresnel argument v: the modulus needs no common phase, so only the
-// Fresnel phase pi v^2 / 2 (small where it matters) is formed, never kr or kr cos psi.
-cplx sommerfeld_term_unphased(double v) noexcept {
-  const cplx diffracted = cplx{0.5, -0.5} * detail::fresnel_aux_tabulated(v);
-  if (v < 0.0) return diffracted;
-  return std::polar(1.0, -0.5 * pi * v * v) - diffracted;
-}
-}  // namespace
-
-double detail::sommerfeld_modulus_at(double v1, double v2, double alpha) noexcept {
-  cplx f = sommerfeld_term_unphased(v1);
-  if (alpha != 0.0) f += alpha * sommerfeld_term_unphased(v2);
-  return std::sqrt(f.real() * f.real() + f.imag() * f.imag());  // |F| <= 2.35: no need for hypot's range care
 }
 
 std::complex<float> sommerfeld_field_fg(double k_r, double theta, double theta0, float alpha) noexcept {

@@ -96,39 +96,6 @@ FresnelCS fresnel(double x) noexcept {
   return x < 0.0 ? FresnelCS{-cs.real(), -cs.imag()} : FresnelCS{cs.real(), cs.imag()};
 }
 
-namespace {
-
-constexpr int table_per_unit = 32;
-constexpr int table_nodes = int(fresnel_table_limit) * table_per_unit + 1;
-
-struct AuxTable {
-  cplx value[table_nodes];
-  cplx slope[table_nodes];  // d aux / dz
-  AuxTable() noexcept {
-    for (int i = 0; i < table_nodes; ++i) {
-      const double z = double(i) / table_per_unit;
-      value[i] = fresnel_aux(z);
-      // From d/dz [aux(z) e^{i pi z^2/2}] = -e^{i pi z^2/2}.
-      slope[i] = -1.0 - cplx{0.0, pi * z} * value[i];
-    }
-  }
-};
-
-}  // namespace
-
-cplx fresnel_aux_tabulated(double z) noexcept {
-  z = std::fabs(z);
-  if (!(z < fresnel_table_limit)) return fresnel_aux(z);  // NaN included
-  static const AuxTable table;
-  const double u = z * table_per_unit;
-  const int i = int(u);
-  const double t = u - double(i), h = 1.0 / table_per_unit;
-  // Cubic Hermite basis on [node i, node i + 1].
-  const double t2 = t * t, t3 = t2 * t;
-  const double h00 = 2.0 * t3 - 3.0 * t2 + 1.0, h10 = t3 - 2.0 * t2 + t, h01 = -2.0 * t3 + 3.0 * t2, h11 = t3 - t2;
-  return table.value[i] * h00 + table.slope[i] * (h * h10) + table.value[i + 1] * h01 + table.slope[i + 1] * (h * h11);
-}
-
 std::complex<float> fresnel_aux_fg(float z) noexcept {
   z = std::fabs(z);
   const float f = (1.0f + 0.926f * z) / (2.0f + z * (1.792f + z * 3.104f));

@@ -31,13 +31,6 @@ std::complex<double> fresnel_tail(double z) noexcept;
 /// |x| below which the power series is used (the continued fraction converges slowly there).
 inline constexpr double fresnel_series_limit = 1.5;
 
-/// g(z) + i f(z) for z >= 0 (|z| is used) from a table: cubic Hermite interpolation between nodes
-/// 1/32 apart on [0, fresnel_table_limit] (values and the exact derivative aux' = -1 - i pi z aux
-/// from fresnel_aux, built once), the continued fraction beyond. |error| < 1e-7 (test_fresnel_
-/// integrals.cpp); no loop below the limit. For the ray tracer's K' knots.
-std::complex<double> fresnel_aux_tabulated(double z) noexcept;
-inline constexpr double fresnel_table_limit = 8.0;
-
 /// Cheap g(z) + i f(z) for z >= 0 (|z| is used) from the rational fits A&S 7.3.32-7.3.33:
 /// absolute error <= 2e-3 in f and in g. For float kernels; no loop, no branch but the abs.
 std::complex<float> fresnel_aux_fg(float z) noexcept;

@@ -1,5 +1,5 @@
-// Walls as the ray tracer sees them: capsules (segments thickened by a radius) and the pierheads at
-// their free ends. Internal to houle_sim.
+// Walls as the ray tracer and the sea surface see them: capsules (segments thickened by a radius) and
+// the pierheads at their free ends, where the sea surface diffracts. Internal to houle_sim.
 #pragma once
 #include <cstdint>
 #include <vector>

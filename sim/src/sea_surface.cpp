@@ -105,10 +105,7 @@ struct FamilyField {
         const int j0 = std::max(0, cj - reach + 1), j1 = std::min(int(g.ny) - 1, cj + reach);
         if (i0 > i1 || j0 > j1) continue;
         const double ksx = rays.k[s] * std::cos(rays.theta[s]), ksy = rays.k[s] * std::sin(rays.theta[s]);
-        // Geometric-optics amplitude: the tracer's K' (near shadow lines) is replaced by the exact
-        // diffracted field below.
-        double a = rays.amplitude[s];
-        if (!rays.diffraction.empty() && rays.diffraction[s] > 0.0f) a /= double(rays.diffraction[s]);
+        const double a = rays.amplitude[s];
         // Phase at node (i0, j0) relative to psi there, and its steps per node along x and y.
         const double nx0 = g.x0 + i0 * g.cell, ny0 = g.y0 + j0 * g.cell;
         const double phi0 = rays.phase[s] + ksx * (nx0 - sx) + ksy * (ny0 - sy);
@@ -344,8 +341,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
   const std::vector<detail::PierheadSite> sites =
       scene.dwt.diffraction ? detail::pierhead_sites(scene, floor, rays.min_depth) : std::vector<detail::PierheadSite>{};
   FamilyField incident;
-  // The tracer's diffraction fans are not the incident family (the sea surface diffracts, below).
-  incident.splat(geo, g, rays, [&](std::size_t r) { return rays.pierhead[r] < 0; }, radius, walls);
+  incident.splat(geo, g, rays, [](std::size_t) { return true; }, radius, walls);
 
   // The pierheads this train reaches, with the incident wave at each.
   std::vector<Pierhead> pierheads;
@@ -367,6 +363,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       pierheads.push_back(p);
     }
   }
+  diffraction_work_.pierheads += pierheads.size();
 
   for (std::vector<float>* v : {&f.phi, &f.b_re, &f.b_im, &f.kx, &f.ky, &f.fold, &f.lean}) v->assign(nodes, 0.0f);
   f.diffraction.assign(pierheads.empty() ? 0 : nodes, 0.0f);
@@ -498,6 +495,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       }
       sum += v.amplitude * d * std::polar(1.0, p.phase - psi);
       arrived = true;
+      ++diffraction_work_.evaluations;
     }
     // K' is against the incident wave without the structures: where its rays did not reach, the
     // nearest pierhead's incident amplitude shoaled to here.

@@ -7,7 +7,6 @@
 
 #include "houle/sim/dispersion.hpp"
 #include "clip_line.hpp"
-#include "sommerfeld_tabulated.hpp"
 #include "train_tracer.hpp"
 
 namespace houle::detail {
@@ -84,18 +83,6 @@ TrainTracer::TrainTracer(const Scene& scene, std::size_t train, const DwtSetting
   init_medium();
   front_ = make_front(scene, train, set, medium_);
   set_step(front_.dphi);
-  if (set.diffraction) sites_ = pierhead_sites(scene, floor_, h_min_);
-  site_used_.assign(sites_.size(), false);
-  sites_left_ = sites_.size();
-  if (set.diffraction_model == DiffractionModel::exact) {
-    // Where a_geo times this bound is within the breaking limit, no cap can bind and the sweep
-    // needs no K' (finalize). A fan's K' has two terms; a lit-band sample's is a product of one
-    // blend of a term towards 1 per fan.
-    double alpha = 0.0;
-    for (const Wall& w : scene.walls) alpha = std::max(alpha, w.reflection);
-    k_bound_ = std::max(sommerfeld_term_bound * (1.0 + alpha),
-                        std::pow(sommerfeld_term_bound, double(sites_.size())));
-  }
 }
 
 void TrainTracer::init_medium() {
@@ -139,7 +126,6 @@ void TrainTracer::start_front() {
     }
     r.st = RayState{e.x, e.y, e.theta, e.phi, 0.0, e.tau};
     r.sync_direction();
-    r.theta0 = r.st.theta;
     r.w = e.wave;
     r.a_geo = e.amplitude;
     r.cg_prev = r.w.cg;

@@ -8,13 +8,13 @@
 
 namespace houle::detail {
 
+// pending_ is in order of `after` (insert_rays walks the front in order).
 void TrainTracer::apply_insertions() {
-  std::sort(pending_.begin(), pending_.end(), [](const Pending& a, const Pending& b) { return a.after < b.after; });
   merged_.clear();
   std::size_t p = 0;
   for (std::size_t i = 0; i < order_.size(); ++i) {
     merged_.push_back(order_[i]);
-    for (; p < pending_.size() && pending_[p].after == i; ++p) merged_.insert(merged_.end(), pending_[p].ids.begin(), pending_[p].ids.end());
+    for (; p < pending_.size() && pending_[p].after == i; ++p) merged_.push_back(pending_[p].id);
   }
   order_.swap(merged_);
   pending_.clear();
@@ -27,25 +27,15 @@ bool TrainTracer::insert_rays(std::int32_t j) {
   for (std::size_t i = 0; i + 1 < order_.size(); ++i) {
     if (!pair_real_[i] || !(pair_sigma_[i] > b_max)) continue;  // not two live rays, or close enough
     const std::int32_t ia = order_[i], ib = order_[i + 1];
-    const Ray& a = rays_[std::size_t(ia)];
-    const Ray& b = rays_[std::size_t(ib)];
-    if (a.crossed_with == ib) continue;  // never between crossed rays (docs/physics.md 2.4)
+    if (rays_[std::size_t(ia)].crossed_with == ib) continue;  // never between crossed rays (docs/physics.md 2.4)
     if (rays_.size() >= set_.max_rays) {
       ++main_.stats.insertions_refused;
       main_.truncated = true;
       continue;
     }
-    std::int32_t id;
-    if (a.family >= 0 && a.family == b.family) {
-      // A diffracted ray from the pierhead, bisecting its parents' starting directions.
-      const double psi = std::atan2(std::sin(a.theta0) + std::sin(b.theta0), std::cos(a.theta0) + std::cos(b.theta0));
-      const double target = 0.5 * (a.a_geo + b.a_geo);
-      id = trace_diffracted(a.family, psi, j, target, ia, ib);
-    } else {
-      id = insert_midpoint(ia, ib, j);
-    }
+    const std::int32_t id = insert_midpoint(ia, ib, j);
     ++main_.stats.inserted_rays;
-    pending_.push_back(Pending{i, {id}});
+    pending_.push_back(Pending{i, id});
   }
   if (pending_.empty()) return false;
   apply_insertions();
@@ -63,13 +53,11 @@ std::int32_t TrainTracer::insert_midpoint(std::int32_t ia, std::int32_t ib, std:
   const Ray& b = rays_[std::size_t(ib)];
   r.parent_a = ia;
   r.parent_b = ib;
-  r.family = a.family == b.family ? a.family : -1;
   r.flags = std::uint8_t(a.flags & b.flags & ray_flag::broken);
   const double x = 0.5 * (a.st.x + b.st.x), y = 0.5 * (a.st.y + b.st.y);
   const double theta = std::atan2(a.sin_t + b.sin_t, a.cos_t + b.cos_t);
   r.st = RayState{x, y, theta, grid_phase(j), 0.5 * (a.st.s + b.st.s), 0.5 * (a.st.tau + b.st.tau)};
   r.sync_direction();
-  r.theta0 = theta;
   r.first_step = j;
   r.joined = true;
   r.fresh = true;
@@ -79,7 +67,6 @@ std::int32_t TrainTracer::insert_midpoint(std::int32_t ia, std::int32_t ib, std:
     r.alive = false;
     r.joined = false;
     r.flags |= ray_flag::dead | (in_wall ? ray_flag::hit_wall : ray_flag::reached_shore);
-    if (in_wall) ++main_.wall_rays;
     return id;
   }
   r.w = wave_at(medium_, x, y);

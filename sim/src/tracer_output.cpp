@@ -1,5 +1,4 @@
-// The tracer's runs and their output: the staged samples gathered into one WaveRays block per train,
-// K' applied ray by ray.
+// The tracer's runs and their output: the staged samples gathered into one WaveRays block per train.
 #include <algorithm>
 #include <cstddef>
 #include <memory>
@@ -49,13 +48,11 @@ WaveRays TrainTracer::finish(DwtStats& stats, const Also& also) {
   constexpr std::size_t n_doubles = 7;  // x, y, theta, k, amplitude, phase, time
   std::size_t at[n_doubles];
   for (std::size_t i = 0; i < n_doubles; ++i) at[i] = layout.add<double>(ns);
-  const bool diffraction = !fans_.empty();
-  const std::size_t at_flags = layout.add<std::uint8_t>(ns), at_k = layout.add<float>(diffraction ? ns : 0);
+  const std::size_t at_flags = layout.add<std::uint8_t>(ns);
   std::shared_ptr<std::byte[]> block = layout.allocate();
   double* arrays[n_doubles];
   for (std::size_t i = 0; i < n_doubles; ++i) arrays[i] = BulkLayout::at<double>(block.get(), at[i]);
   auto* flags = BulkLayout::at<std::uint8_t>(block.get(), at_flags);
-  float* coefficient = BulkLayout::at<float>(block.get(), at_k);
   out.x = {arrays[0], ns};
   out.y = {arrays[1], ns};
   out.theta = {arrays[2], ns};
@@ -64,11 +61,10 @@ WaveRays TrainTracer::finish(DwtStats& stats, const Also& also) {
   out.phase = {arrays[5], ns};
   out.time = {arrays[6], ns};
   out.sample_flags = {flags, ns};
-  if (diffraction) out.diffraction = {coefficient, ns};
-  // Per ray, its chunks into the output block, front to back, with K' applied ray by ray; on two
-  // lanes, runs of rays of about equal sample counts are taken from both ends (what a ray's
-  // output is does not depend on the lane that writes it).
-  const Gather g{arrays, flags, coefficient, diffraction};
+  // Per ray, its chunks into the output block, front to back; on two lanes, runs of rays of about
+  // equal sample counts are taken from both ends (what a ray's output is does not depend on the
+  // lane that writes it).
+  const Gather g{arrays, flags};
   if (pool_) {
     constexpr std::size_t runs = 32;
     std::vector<std::size_t> bound(runs + 1, nr);
@@ -79,13 +75,12 @@ WaveRays TrainTracer::finish(DwtStats& stats, const Also& also) {
       bound[c] = std::size_t(past - out.sample_begin.begin());
       bound[c] = std::max(bound[c], bound[c - 1]);
     }
-    pool_->for_ranges(runs + 1, 1, [&](std::size_t c, std::size_t, unsigned lane) {
+    pool_->for_ranges(runs + 1, 1, [&](std::size_t c, std::size_t, unsigned) {
       if (c == runs) also();
-      else gather(lane == 0 ? main_ : side_, out, g, bound[c], bound[c + 1]);
+      else gather(out, g, bound[c], bound[c + 1]);
     });
-    merge_side_lane();
   } else {
-    gather(main_, out, g, 0, nr);
+    gather(out, g, 0, nr);
     also();
   }
   out.sample_storage = std::move(block);
@@ -93,25 +88,20 @@ WaveRays TrainTracer::finish(DwtStats& stats, const Also& also) {
   out.flags.resize(nr);
   out.parent_a.resize(nr);
   out.parent_b.resize(nr);
-  out.pierhead.resize(nr);
   for (std::size_t i = 0; i < nr; ++i) {
     const Ray& r = rays_[std::size_t(order_[i])];
     out.first_step[i] = r.first_step >= 0 ? r.first_step : 0;
     out.flags[i] = r.flags;
     out.parent_a[i] = r.parent_a >= 0 ? rank[std::size_t(r.parent_a)] : -1;
     out.parent_b[i] = r.parent_b >= 0 ? rank[std::size_t(r.parent_b)] : -1;
-    out.pierhead[i] = r.family;
-  }
-  for (const Fan& f : fans_) {
-    out.pierheads.push_back(WaveRays::Pierhead{f.site.x, f.site.y, f.ox, f.oy, f.site.wall, f.phi_m, f.a_m, f.wave_m.k});
   }
   main_.stats.truncated = main_.stats.truncated || main_.truncated;
   stats = main_.stats;
   return out;
 }
 
-// The staged samples of rays order_[lo, hi) into the output, K' applied.
-void TrainTracer::gather(Lane& lane, const WaveRays& out, const Gather& g, std::size_t lo, std::size_t hi) {
+// The staged samples of rays order_[lo, hi) into the output.
+void TrainTracer::gather(const WaveRays& out, const Gather& g, std::size_t lo, std::size_t hi) const {
   // Local pointers: the byte stores of the flags could alias g's, which the compiler would
   // otherwise reload for every sample.
   double *const x = g.arrays[0], *const y = g.arrays[1], *const theta = g.arrays[2], *const k = g.arrays[3];
@@ -119,9 +109,7 @@ void TrainTracer::gather(Lane& lane, const WaveRays& out, const Gather& g, std::
   std::uint8_t* const flags = g.flags;
   for (std::size_t i = lo; i < hi; ++i) {
     const Ray& r = rays_[std::size_t(order_[i])];
-    const std::size_t begin = out.sample_begin[i];
-    if (g.diffraction) lane.k_scratch.resize(r.samples.count), lane.a_scratch.resize(r.samples.count);
-    std::size_t t = begin;
+    std::size_t t = out.sample_begin[i];
     for (const SampleChunk* c = r.samples.first; c; c = c->next) {
       const SampleChunk& ch = *c;
       const std::size_t n = std::min<std::size_t>(SampleChunk::size, out.sample_begin[i + 1] - t);
@@ -136,18 +124,7 @@ void TrainTracer::gather(Lane& lane, const WaveRays& out, const Gather& g, std::
         time[t + q] = s.time;
         flags[t + q] = s.flags;
       }
-      if (g.diffraction) {
-        for (std::size_t q = 0; q < n; ++q) {
-          lane.k_scratch[t - begin + q] = ch.at[q].k_exact;
-          lane.a_scratch[t - begin + q] = ch.at[q].a_break;
-        }
-      }
       t += n;
-    }
-    if (!g.diffraction) continue;
-    apply_diffraction(lane, out, amplitude, r.family, begin, out.sample_begin[i + 1]);
-    for (std::size_t q = begin; q < t; ++q) {
-      g.coefficient[q] = (flags[q] & sample_flag::diffraction) ? float(lane.k_scratch[q - begin]) : 1.0f;
     }
   }
 }

@@ -10,9 +10,9 @@
 namespace houle::detail {
 namespace {
 
-// Only rays that end on a wall, with samples, and are not DIFFRACTED seed a reflected wave.
+// Only rays that end on a wall, with samples, seed a reflected wave.
 bool seeds_reflection(std::uint8_t flags, std::size_t samples) noexcept {
-  return (flags & ray_flag::hit_wall) && !(flags & ray_flag::diffracted) && samples > 0;
+  return (flags & ray_flag::hit_wall) && samples > 0;
 }
 
 }  // namespace
@@ -38,24 +38,18 @@ TrainTracer::TrainTracer(const Scene& scene, std::size_t train, const DwtSetting
   set_step(dphi);
 }
 
-std::vector<RayEnd> TrainTracer::ray_ends() {
+std::vector<RayEnd> TrainTracer::ray_ends() const {
   std::vector<RayEnd> ends(order_.size());
   for (std::size_t i = 0; i < order_.size(); ++i) {
-    Ray& r = rays_[std::size_t(order_[i])];
+    const Ray& r = rays_[std::size_t(order_[i])];
     if (!seeds_reflection(r.flags, r.samples.count)) continue;
-    StagedSample& s = r.samples.last->at[(r.samples.count - 1) % SampleChunk::size];
-    double a = s.amplitude;
-    if (s.flags & sample_flag::diffraction) {
-      // As apply_diffraction will have it: exact K' at the end of a run (kept for it).
-      if (knot_pending(s.k_exact)) s.k_exact = k_factor(main_, r.family, s.x, s.y, s.phase);
-      a = std::min(a * s.k_exact, s.a_break);
-    }
-    ends[i] = RayEnd{true, s.x, s.y, s.theta, s.phase, s.time, a};
+    const StagedSample& s = r.samples.last->at[(r.samples.count - 1) % SampleChunk::size];
+    ends[i] = RayEnd{true, s.x, s.y, s.theta, s.phase, s.time, s.amplitude};
   }
   return ends;
 }
 
-// Seeds of the reflected wave: the end points of `incident`'s undiffracted rays that hit a wall
+// Seeds of the reflected wave: the end points of `incident`'s rays that hit a wall
 // with alpha > 0, in reverse order (the mirror image reverses left and right), mirrored about the
 // wall's normal there, with amplitude alpha A and the incident phase and time (phase continuous).
 // A cut (an entry on "land": a dead ray with no samples) separates seeds whose incident rays were

@@ -1,4 +1,4 @@
-// The sweep: every step's passes over the wavefront (advance, fans, tubes and amplitudes, insertion).
+// The sweep: every step's passes over the wavefront (advance, tubes and amplitudes, insertion).
 // The per-ray work of a step is the hot path: it lives in this one translation unit (with the inline
 // helpers of train_tracer.hpp) so that the compiler inlines it as it did when the tracer was one file.
 #include <algorithm>
@@ -64,7 +64,7 @@ std::size_t TrainTracer::estimate_samples() const noexcept {
 }
 
 double TrainTracer::chord_event_near(const RayState& a, const RayState& b, double depth_b, double travel,
-                                     double& clear, Stop& why, std::uint32_t& wall) const noexcept {
+                                     double& clear, Stop& why) const noexcept {
   double u = 2.0;
   if (travel < clear) {
     clear -= travel;
@@ -74,7 +74,7 @@ double TrainTracer::chord_event_near(const RayState& a, const RayState& b, doubl
                             std::max(a.y, b.y) >= walls_box_.y_min && std::min(a.y, b.y) <= walls_box_.y_max;
     if (near_walls) {
       const WallHit hit = first_wall_hit(capsules_, a.x, a.y, b.x, b.y);
-      if (hit.hit) u = hit.u, why = Stop::wall, wall = hit.wall;
+      if (hit.hit) u = hit.u, why = Stop::wall;
     }
     const Domain& d = scene_.domain;
     if (b.x < d.x_min || b.x > d.x_max || b.y < d.y_min || b.y > d.y_max) {
@@ -152,16 +152,14 @@ void TrainTracer::step(std::int32_t j) {
     advance_front(main_, j, 0, n);
   }
   if (main_.truncated) return;
-  // B: fans at pierheads the front has just passed (each site spawns once); they change order_.
-  if (sites_left_ > 0 && main_.wall_rays > 0 && spawn_fans(j)) measure_tubes();  // a fan needs a ray that ended on a wall
-  // C: tubes, caustics and amplitudes on this wavefront. Without insertion (D) the tubes of E are
-  // those of C, and E rides along.
+  // B: tubes, caustics and amplitudes on this wavefront. Without insertion (C) the tubes of D are
+  // those of B, and D rides along.
   const bool inserts = main_.widest > set_.insertion_distance;
   update_amplitudes(!inserts);
   if (!inserts) return;
-  // D: insertion where live neighbours are too far apart.
+  // C: insertion where live neighbours are too far apart.
   for (int pass = 0; pass < max_insertion_passes && insert_rays(j); ++pass) measure_tubes();
-  // E: remember this wavefront's tubes for the next step; mark sound tubes for tessellation.
+  // D: remember this wavefront's tubes for the next step; mark sound tubes for tessellation.
   for (std::size_t i = 0; i < order_.size(); ++i) record_tube(i);
 }
 
@@ -185,12 +183,10 @@ void TrainTracer::prefetch_ray(std::int32_t id) const noexcept {
 
 void TrainTracer::merge_side_lane() {
   main_.stats += side_.stats;
-  main_.wall_rays += side_.wall_rays;
   main_.widest = std::max(main_.widest, side_.widest);
   main_.any_alive = main_.any_alive || side_.any_alive;
   main_.truncated = main_.truncated || side_.truncated;
   side_.stats = DwtStats{};
-  side_.wall_rays = 0;
   side_.widest = 0.0;
   side_.any_alive = side_.truncated = false;
 }
@@ -227,8 +223,7 @@ void TrainTracer::advance_on_step(Lane& lane, std::int32_t id, std::int32_t j) {
 }
 
 // Every pass of a step visits every ray in order_, and dead rays pile up in it. A dead ray between
-// two dead neighbours can take no further part: it has no tube, spawns no fan, and never gets a
-// new neighbour (rays are inserted only next to a live one). Such rays leave order_ and follow
+// two dead neighbours can take no further part: it has no tube and never gets a new neighbour (rays are inserted only next to a live one). Such rays leave order_ and follow
 // their predecessor in the output.
 void TrainTracer::drop_inert_rays() {
   std::size_t kept = 0;
@@ -277,19 +272,7 @@ double TrainTracer::spacing(const Pose& a, const Pose& b) noexcept {
   return ((b.x - a.x) * -my + (b.y - a.y) * mx) / std::sqrt(n2);
 }
 
-// Tube width used for amplitude: sigma, or sigma / d (distance from the pierhead) within a fan.
-double TrainTracer::tube_width(std::int32_t family, const Pose& a, const Pose& b, double sigma) const noexcept {
-  if (family < 0) return sigma;
-  // Distances from where the fan's rays start (the lee corner on a thick wall), so that a radial
-  // fan on a flat bottom has sigma / d constant exactly.
-  const Fan& f = fans_[std::size_t(family)];
-  const double ax = a.x - f.ox, ay = a.y - f.oy, bx = b.x - f.ox, by = b.y - f.oy;
-  const double d = 0.5 * (std::sqrt(ax * ax + ay * ay) + std::sqrt(bx * bx + by * by));
-  return d > 0.0 ? sigma / d : 0.0;
-}
-
-// Spacing and tube width of every neighbour pair in order_ that has a pose on this wavefront (NaN
-// otherwise); pair_real_ marks pairs of two live rays (only those may insert or be tessellated).
+// Spacing of every neighbour pair in order_ that has a pose on this wavefront (NaN otherwise); pair_real_ marks pairs of two live rays (only those may insert or be tessellated).
 void TrainTracer::measure_tubes() {
   begin_tubes();
   measure_pairs(main_, 0, order_.size());
@@ -316,7 +299,6 @@ void TrainTracer::measure_pairs(Lane& lane, std::size_t lo, std::size_t hi) {
 void TrainTracer::begin_tubes() {
   const std::size_t n = order_.size();
   pair_sigma_.assign(n, std::numeric_limits<double>::quiet_NaN());
-  pair_width_.assign(n, 0.0);
   pair_real_.assign(n, 0);
   main_.widest = 0.0;
 }
@@ -329,7 +311,6 @@ double TrainTracer::measure_pair(std::size_t i, const Pose& pa, const Pose& pb) 
   const double sigma = spacing(pa, pb);
   const bool real = live_on_step(a) && live_on_step(b);
   pair_sigma_[i] = sigma;
-  pair_width_[i] = tube_width(a.family, pa, pb, sigma);
   pair_real_[i] = real;
   return real ? sigma : 0.0;
 }
@@ -388,10 +369,8 @@ TrainTracer::PairTube TrainTracer::classify_pair(std::size_t i) {
     t.crossed = true;
     return t;
   }
-  if (!persisted || a.family != b.family || a.fresh || b.fresh) return t;
-  const double width = pair_width_[i];
-  if (!(a.tube_b > 0.0) || !(width > 0.0)) return t;
-  return PairTube{a.tube_b, width, true, false};
+  if (!persisted || a.fresh || b.fresh) return t;
+  return PairTube{a.tube_sigma, sigma, true, false};  // uncrossed then and now: both widths > 0
 }
 
 // Ray order_[i]'s tube to the next.
@@ -409,7 +388,6 @@ void TrainTracer::record_tube(std::size_t i) {
   const bool crossed = a.crossed_with == next || sigma <= 0.0;
   a.tube_next = next;
   a.tube_sigma = sigma;
-  a.tube_b = crossed ? 0.0 : pair_width_[i];
   a.tube_crossed = crossed;
   if (!crossed && pair_real_[i] && on_grid_sample(a) && on_grid_sample(b)) a.latest->flags |= sample_flag::tube_next;
 }

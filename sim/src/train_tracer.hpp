@@ -4,8 +4,6 @@
 //   tracer_sweep.cpp       the sweep: each step's passes (advance, tubes, amplitudes), the hot path, in
 //                          one translation unit so that the compiler inlines it as one
 //   tracer_insertion.cpp   rays inserted where neighbours drift apart
-//   tracer_fans.cpp        diffraction fans at pierheads
-//   tracer_k_factor.cpp    K' (exact at knots along the rays, interpolated after the sweep)
 //   tracer_reflection.cpp  the reflected wave, seeded where rays ended on walls
 //   tracer_output.cpp      the runs and the gather into WaveRays
 // wave_tracing.cpp holds the entry points (trace_train, trace_reflection, trace_wave_field, dwt_bound).
@@ -23,7 +21,6 @@
 #include "houle/runtime/bulk_memory.hpp"
 #include "houle/runtime/thread_pool.hpp"
 #include "houle/sim/bathymetry.hpp"
-#include "houle/sim/diffraction.hpp"
 #include "houle/sim/wave_rays.hpp"
 #include "ray_step.hpp"
 #include "ray_walls.hpp"
@@ -62,19 +59,11 @@ inline double path_limit(const Domain& d) noexcept { return 4.0 * ((d.x_max - d.
 
 inline double dist(double x, double y) noexcept { return std::sqrt(x * x + y * y); }  // no need for hypot's range care
 
-// K' varies over half a wavelength or more along a ray (faster near the pierhead), so it is computed
-// exactly at knots along each ray at most knot_spacing() apart and interpolated in between.
-// A knot whose exact K' is left to the gather (k_exact < 0 never holds a coefficient).
-constexpr double pending_knot = -1.0;
-inline bool knot_pending(double k_exact) noexcept { return !(k_exact >= 0.0); }  // NaN at run ends too
-
 // ---- The tracer --------------------------------------------------------------------------------
 
-// One sample as the sweep builds it. Samples with a diffraction coefficient hold a_geo in
-// `amplitude`, their breaking limit in a_break and, at knots, the exact K' in k_exact (pending_knot
-// until it is computed, NaN elsewhere); K' is applied after the sweep.
+// One sample as the sweep builds it.
 struct StagedSample {
-  double x, y, theta, k, amplitude, phase, time, a_break, k_exact;
+  double x, y, theta, k, amplitude, phase, time;
   std::uint8_t flags;
 };
 
@@ -139,12 +128,9 @@ class SampleStore {
 struct Lane {
   SampleStore samples;
   DwtStats stats{};
-  std::size_t wall_rays = 0;  // rays flagged hit_wall
   double widest = 0.0;        // the largest pair_sigma_ of a real pair on this wavefront
   bool any_alive = false;
   bool truncated = false;
-  std::vector<double> k_scratch, a_scratch;  // gather(): one ray's k_exact and a_break
-  std::vector<double> path_scratch;           // apply_diffraction(): path lengths along a run
 };
 
 // Fields are grouped so that a step touches four of a ray's lines (the ones prefetch_ray fetches):
@@ -159,33 +145,22 @@ struct alignas(64) Ray {
                                  // straight path in uniform water, it still bounds its neighbours' tubes
   bool joined = false;           // has reached the phase grid
   bool joined_now = false;       // its first on-grid sample is this step's
-  bool fresh = false;            // born complete on this step (fans, insertions): nothing to update
+  bool fresh = false;            // inserted on this step, complete: nothing to update
   bool tube_crossed = false;
-  bool has_knot = false;         // knot_* hold the last knot along this ray
   std::uint8_t flags = 0;
-  std::int32_t family = -1;      // fan index, or -1 for the incident wave
   std::int32_t crossed_with = -1;  // this step: the next ray it is found crossed with
-  double a_geo = 0.0;            // m, amplitude from shoaling and tube width (no K', capped)
+  double a_geo = 0.0;            // m, amplitude from shoaling and tube width (capped)
   double a_prev = 0.0, cg_prev = 0.0;  // at the previous sample
   double width_ratio = 1.0;      // b_prev / b over the last full step (for a final partial step)
   double clear = 0.0;            // m of path from st free of walls and the domain's edge (chord_event)
   std::int32_t tube_next = -1;   // the tube to the next ray in order, as of the last completed step
-  // Line 2: that tube, the samples, the last knot (path length s and spacing to the next).
+  // Line 2: that tube and the samples.
   double tube_sigma = 0.0;       // perpendicular spacing, m
-  double tube_b = 0.0;           // width used for amplitude (sigma, or sigma / d in a fan)
   StagedSample* latest = nullptr;  // in samples; null before the first (or if the cap refused it)
   ChunkList samples;             // in a lane's SampleStore: appended to on every step
-  double knot_s = 0.0, knot_gap = 0.0;
   // Lines 3-4: the wave at st (its hot fields first; aligned where pointers are 4 bytes).
   alignas(64) LocalWave w{};
-  // The last knot's K' (NaN while pending: then knot_sample holds it, to be computed in the gather
-  // unless a cap needs it first).
-  double knot_k = 1.0;
-  StagedSample* knot_sample = nullptr;
-  // Cold: ends, lineage.
-  std::uint32_t wall = 0;        // the wall it hit (when hit_wall)
-  double hit_x = 0.0, hit_y = 0.0;
-  double theta0 = 0.0;           // direction at birth
+  // Cold: lineage.
   std::int32_t first_step = -1;
   std::int32_t parent_a = -1, parent_b = -1;
   // Rays dropped from the sweep that follow this one in the output, first to last (drop_inert_rays),
@@ -199,21 +174,6 @@ struct alignas(64) Ray {
 };
 static_assert(offsetof(Ray, alive) == 64 && offsetof(Ray, tube_sigma) == 128 && offsetof(Ray, w) == 192,
               "Ray's hot fields are in its first four lines");
-
-struct Fan {
-  PierheadSite site{};
-  BreakwaterFrame frame{};
-  double phi_m = 0.0, tau_m = 0.0;  // incident phase and time at M
-  double a_m = 0.0;                 // incident amplitude at M
-  LocalWave wave_m{};
-  double ox = 0.0, oy = 0.0;        // start of the fan's rays
-  double phi_o = 0.0, tau_o = 0.0;
-  double theta0 = 0.0;              // incidence in the breakwater frame
-  double v_scale = 0.0;             // sqrt(4 k / pi): v = v_scale sqrt(r) cos((theta - theta0) / 2)
-  double d0x = 0.0, d0y = 0.0;      // world unit vector at angle theta0 in the frame (towards the waves' origin)
-  double cos_theta0 = 1.0, sin_theta0 = 0.0;
-  double cos_half_theta0 = 1.0, sin_half_theta0 = 0.0;
-};
 
 enum class Stop : std::uint8_t { none, wall, domain, shore, turned };
 
@@ -245,7 +205,7 @@ class TrainTracer {
   WaveRays run_reflecting(DwtStats& stats, WaveRays& reflected, DwtStats& reflected_stats);
 
   // Where every ray ended, in output order (after the sweep): what a reflected wave starts from.
-  std::vector<RayEnd> ray_ends();
+  std::vector<RayEnd> ray_ends() const;
 
  private:
   // A ray's position and direction on the current wavefront (pose_on_step).
@@ -257,30 +217,14 @@ class TrainTracer {
     double b_prev = 0.0, b_now = 0.0;
     bool sound = false, crossed = false;
   };
-  // The point (px, py) from fan f's pierhead in its breakwater frame: its distance r, and the
-  // cosines of (theta -+ theta0) / 2, which give the Sommerfeld terms' Fresnel arguments. From
-  // half-angle identities (no atan2 or cos): cos(theta / 2) = sign(v) sqrt((r + u) / 2r) and
-  // sin(theta / 2) = sqrt((r - u) / 2r), each from whichever of r + u, r - u does not cancel
-  // ((r + u)(r - u) = v^2). On the structure's line theta is 2 pi with `lee` (the fans' lee face),
-  // else 0; at the pierhead, pi.
-  struct HalfAngles {
-    double r, minus, plus;
-  };
   struct Pending {
-    std::size_t after;               // insert after this position in order_
-    std::vector<std::int32_t> ids;   // in order
+    std::size_t after;  // insert after this position in order_
+    std::int32_t id;
   };
   // Where finish() writes the samples.
   struct Gather {
     double* const* arrays;  // x, y, theta, k, amplitude, phase, time
     std::uint8_t* flags;
-    float* coefficient;     // K' (with diffraction)
-    bool diffraction;
-  };
-  struct CatchUp {
-    RayState st;
-    LocalWave w;
-    std::uint8_t flags;
   };
 
   // ---- tracer_front.cpp ----
@@ -301,7 +245,7 @@ class TrainTracer {
   void sweep();
   inline std::size_t estimate_samples() const noexcept;
   [[gnu::noinline]] double chord_event_near(const RayState& a, const RayState& b, double depth_b, double travel,
-                                            double& clear, Stop& why, std::uint32_t& wall) const noexcept;
+                                            double& clear, Stop& why) const noexcept;
   inline double clearance(double x, double y) const noexcept;
   [[gnu::always_inline]] inline bool advance_ray(Lane& lane, std::int32_t id, double dphi);
   inline void step(std::int32_t j);
@@ -313,7 +257,6 @@ class TrainTracer {
   inline void follow(std::int32_t p, std::int32_t d);
   inline bool pose_on_step(const Ray& r, double phi_j, Pose& p) const noexcept;
   static inline double spacing(const Pose& a, const Pose& b) noexcept;
-  inline double tube_width(std::int32_t family, const Pose& a, const Pose& b, double sigma) const noexcept;
   inline void measure_tubes();
   inline void measure_pairs(Lane& lane, std::size_t lo, std::size_t hi);
   inline void begin_tubes();
@@ -328,24 +271,10 @@ class TrainTracer {
   bool insert_rays(std::int32_t j);
   std::int32_t insert_midpoint(std::int32_t ia, std::int32_t ib, std::int32_t j);
 
-  // ---- tracer_fans.cpp ----
-  bool spawn_fans(std::int32_t j);
-  bool try_spawn(std::size_t s, std::int32_t live_id, std::int32_t dead_id, int side, std::size_t pos, std::int32_t j);
-  std::int32_t trace_diffracted(std::int32_t fan, double psi, std::int32_t j, double a_target, std::int32_t pa,
-                                std::int32_t pb);
-
-  // ---- tracer_k_factor.cpp ----
-  bool in_band(double x, double y) const noexcept;
-  static bool beyond_shadow_line(const Fan& f, double px, double py) noexcept;
-  static HalfAngles half_angles(const Fan& f, double px, double py, bool lee) noexcept;
-  double k_factor(Lane& lane, std::int32_t family, double x, double y, double phi);
-  void apply_diffraction(Lane& lane, const WaveRays& out, double* amplitude, std::int32_t family, std::size_t begin,
-                         std::size_t end);
-
   // ---- tracer_output.cpp ----
   template <class Also>
   WaveRays finish(DwtStats& stats, const Also& also);
-  void gather(Lane& lane, const WaveRays& out, const Gather& g, std::size_t lo, std::size_t hi);
+  void gather(const WaveRays& out, const Gather& g, std::size_t lo, std::size_t hi) const;
 
   // ---- What several of those files use, inline: the phase grid, samples and their caps, moving a ray ----
 
@@ -373,8 +302,7 @@ class TrainTracer {
       return;
     }
     r.latest = &lane.samples.append(r.samples);
-    *r.latest = StagedSample{st.x, st.y, st.theta, w.k, 0.0, st.phi, st.tau, 0.0,
-                             std::numeric_limits<double>::quiet_NaN(), flags};
+    *r.latest = StagedSample{st.x, st.y, st.theta, w.k, 0.0, st.phi, st.tau, flags};
     ++lane.stats.samples;
   }
 
@@ -383,73 +311,27 @@ class TrainTracer {
     return std::min(0.5 * set_.breaker_index * w.h, 0.071 * two_pi / w.k * w.tanh_kh);
   }
 
-  // How far along a ray K' may go between exact evaluations: a quarter wavelength, less near the
-  // pierhead where K' changes faster (a third of the distance to it, at least L/64).
-  double knot_spacing(std::int32_t family, double x, double y, double k) const noexcept {
-    const double wavelength = two_pi / k;
-    return std::clamp(distance_to_pierhead(family, x, y) / 3.0, wavelength / 64.0, wavelength / 4.0);
-  }
-
-  double distance_to_pierhead(std::int32_t family, double x, double y) const noexcept {
-    double best = std::numeric_limits<double>::infinity();
-    for (std::size_t f = 0; f < fans_.size(); ++f) {
-      if (family >= 0 && std::int32_t(f) != family) continue;
-      best = std::min(best, dist(x - fans_[f].site.x, y - fans_[f].site.y));
-    }
-    return best;
-  }
-
   // Amplitude of ray id's latest sample from its a_geo, then the breaking caps H <= gamma_b h and
-  // H <= 0.142 L tanh kh (the excess is dissipated from a_geo). Where a diffraction coefficient
-  // applies, the caps use K' from the ray's last knot (a new knot when that is more than a knot
-  // spacing back); the sample keeps a_geo and its limit, and gets interpolated K' and the caps
-  // again after the sweep (apply_diffraction). A knot's exact K' is computed here only if a cap
-  // could bind: otherwise the gather computes it, on both lanes when there are two.
+  // H <= 0.142 L tanh kh (the excess is dissipated from a_geo).
   [[gnu::always_inline]] void finalize(Lane& lane, std::int32_t id) {
     Ray& r = rays_[std::size_t(id)];
     if (!r.latest) return;  // the sample cap refused it
     StagedSample& c = *r.latest;
     const double a_break = medium_.uniform ? uniform_a_break_ : breaking_limit(r.w);
-    const double x = c.x, y = c.y;
-    const bool diffracts = r.family >= 0 || (!fans_.empty() && in_band(x, y));
-    double K = 1.0;
-    if (diffracts) {
-      c.flags |= sample_flag::diffraction;
-      if (!r.has_knot || r.st.s - r.knot_s >= r.knot_gap || r.st.s < r.knot_s) {
-        r.knot_k = std::numeric_limits<double>::quiet_NaN();
-        r.knot_sample = &c;
-        r.knot_s = r.st.s;
-        r.knot_gap = knot_spacing(r.family, x, y, r.w.k);
-        r.has_knot = true;
-        c.k_exact = pending_knot;
-      }
-      c.amplitude = r.a_geo;
-      c.a_break = a_break;
-      if (r.a_geo * k_bound_ <= a_break) return;  // no cap can bind, whatever K' is
-      if (std::isnan(r.knot_k)) {
-        StagedSample& knot = *r.knot_sample;
-        r.knot_k = knot.k_exact = k_factor(lane, r.family, knot.x, knot.y, knot.phase);
-      }
-      K = r.knot_k;
-    }
-    double a = r.a_geo * K;
-    if (a > a_break) {
-      a = a_break;
-      if (K > 0.0) r.a_geo = a_break / K;
+    if (r.a_geo > a_break) {
+      r.a_geo = a_break;
       c.flags |= sample_flag::broken;
       if (!(r.flags & ray_flag::broken)) ++lane.stats.broken_rays;
       r.flags |= ray_flag::broken;
     }
-    c.amplitude = diffracts ? r.a_geo : a;
-    c.a_break = a_break;
+    c.amplitude = r.a_geo;
   }
 
   // Where along the chord a -> b (0..1) the ray meets a wall, the domain's edge or the shoreline
   // (depth h_min), whichever comes first; > 1 if none. `clear` is a path length from a within which
   // the ray can meet neither a wall nor the domain's edge, kept up to date here: most chords skip
   // those tests.
-  double chord_event(const RayState& a, const RayState& b, double depth_b, double& clear, Stop& why,
-                     std::uint32_t& wall) const noexcept {
+  double chord_event(const RayState& a, const RayState& b, double depth_b, double& clear, Stop& why) const noexcept {
     why = Stop::none;
     // The path length is at least the chord's (RK4 sums the same positive weights for both).
     const double travel = b.s - a.s;
@@ -457,7 +339,7 @@ class TrainTracer {
       clear -= travel;  // most chords: inline, the rest out of line
       return 2.0;
     }
-    return chord_event_near(a, b, depth_b, travel, clear, why, wall);
+    return chord_event_near(a, b, depth_b, travel, clear, why);
   }
 
   // Moves ray `id` on by dphi. If it meets a wall, the domain's edge or the shoreline it stops there,
@@ -465,9 +347,8 @@ class TrainTracer {
   bool move_ray(Lane& lane, std::int32_t id, double dphi) {
     Ray& r = rays_[std::size_t(id)];
     Stop why = Stop::none;
-    std::uint32_t wall = 0;
     auto stop = [&](const RayState& a, const RayState& b, double depth_b) {
-      return chord_event(a, b, depth_b, r.clear, why, wall);
+      return chord_event(a, b, depth_b, r.clear, why);
     };
     bool ended = advance(medium_, r.st, r.w, dphi, r.cos_t, r.sin_t, stop);
     if (!medium_.uniform) {
@@ -479,10 +360,6 @@ class TrainTracer {
     r.flags |= ray_flag::dead;
     if (why == Stop::wall) {
       r.flags |= ray_flag::hit_wall;
-      ++lane.wall_rays;
-      r.wall = wall;
-      r.hit_x = r.st.x;
-      r.hit_y = r.st.y;
       ++lane.stats.wall_hits;
     } else if (why == Stop::domain) {
       r.flags |= ray_flag::left_domain;
@@ -501,9 +378,9 @@ class TrainTracer {
   // an island or a steep shoal), where rays no longer describe the wave; what is scattered back is
   // small and mostly breaks on the shoal, and a scatterer must not change the sea upstream of it. The
   // parabolic models of the mild-slope equation drop the back-scattered wave for the same reason.
-  // Fans spread into the lee by design and reflected waves travel back by design: both are exempt.
+  // Reflected waves travel back by design: they are exempt.
   bool turned_back(const Ray& r) const noexcept {
-    return !reflected_ && r.family < 0 && r.cos_t * front_.dx + r.sin_t * front_.dy < 0.0;
+    return !reflected_ && r.cos_t * front_.dx + r.sin_t * front_.dy < 0.0;
   }
 
   bool live_on_step(const Ray& r) const noexcept { return r.alive && r.joined; }
@@ -519,21 +396,15 @@ class TrainTracer {
   Front front_{};
   std::vector<Capsule> capsules_;
   Domain walls_box_{inf, inf, -inf, -inf};  // holds every capsule (empty without walls)
-  std::vector<PierheadSite> sites_;
-  std::vector<bool> site_used_;
-  std::size_t sites_left_ = 0;  // sites that have not spawned their fan yet
-  std::vector<Fan> fans_;
   std::vector<Ray> rays_;
   std::vector<std::int32_t> order_, merged_;
   std::vector<Pending> pending_;
-  std::vector<CatchUp> catch_;
   std::int32_t step_ = 0;  // the wavefront being processed
-  std::vector<double> pair_sigma_, pair_width_;
+  std::vector<double> pair_sigma_;
   std::vector<std::uint8_t> pair_real_;
   Lane main_;  // the sweep's own
   Lane side_;  // the pool's second lane's, merged into main_ after each shared pass
   std::int64_t first_step_ = 0;
-  double k_bound_ = inf;  // K' <= k_bound_ everywhere (finalize)
   double uniform_a_break_ = 0.0;  // breaking_limit() of a uniform floor
   bool reflected_ = false;  // tracing a reflected wave (seeded on walls, not from the entry front)
 };

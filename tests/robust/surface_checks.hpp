@@ -97,12 +97,11 @@ inline FrameStats frame_stats(const Framebuffer& fb) {
 }
 
 /// Worst ratios of the traced amplitudes to their physical limits: breaking, H = 2A <= gamma_b h, and
-/// energy, A <= A0 Ks(kh) Kr_max (refraction capped at caustics; diffraction may add up to the
-/// incident plus the reflected wave, a factor 2, where it was applied).
+/// energy, A <= A0 Ks(kh) Kr_max (refraction capped at caustics; the rays carry no diffraction).
 struct AmplitudeWorst {
   bool finite = true;
   double breaking = 0.0;     ///< max 2A / (gamma_b h)
-  double energy = 0.0;       ///< max A / (A0 Ks Kr_max K'_max) over all samples
+  double energy = 0.0;       ///< max A / (A0 Ks Kr_max) over all samples
   double caustic = 0.0;      ///< the same over samples behind a crossing only
   std::size_t samples = 0, crossed = 0;
 };
@@ -121,9 +120,8 @@ inline AmplitudeWorst amplitude_worst(const Scene& scene, const WaveField& field
       }
       const double h = floor.depth(r.x[i], r.y[i]);
       if (h > 0.0) w.breaking = std::max(w.breaking, 2.0 * a / (scene.dwt.breaker_index * h));
-      const double diffraction = (r.sample_flags[i] & sample_flag::diffraction) ? 2.0 : 1.0;
       const double cap = r.amplitude0 * shoaling_coefficient(k * std::max(h, r.min_depth)) *
-                         scene.dwt.max_refraction_coefficient * diffraction;
+                         scene.dwt.max_refraction_coefficient;
       const double ratio = a / cap;
       w.energy = std::max(w.energy, ratio);
       if (r.sample_flags[i] & sample_flag::crossed) {

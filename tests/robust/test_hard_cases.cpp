@@ -198,7 +198,7 @@ TEST(HardCases, HugeAndTinyScenes) {
     houle::Expected<houle::WaveField> field = houle::trace_wave_field(scene, 2);
     ASSERT_TRUE(field);
     const houle::test::AmplitudeWorst aw = houle::test::amplitude_worst(scene, field.value());
-    std::printf("worst: %g m scene: %zu samples, 2A/(gamma_b h) %.4f, A/(A0 Ks Kr_max K') %.4f\n", size, aw.samples,
+    std::printf("worst: %g m scene: %zu samples, 2A/(gamma_b h) %.4f, A/(A0 Ks Kr_max) %.4f\n", size, aw.samples,
                 aw.breaking, aw.energy);
     EXPECT_TRUE(aw.finite);
     EXPECT_GT(aw.samples, 100u);
@@ -236,7 +236,7 @@ TEST(HardCases, BreakingLimitSteepness) {
     EXPECT_EQ(field->trains[0].analytic, !beach);
     const houle::test::AmplitudeWorst aw = houle::test::amplitude_worst(scene, field.value());
     const char* what = beach ? "Stokes-limit train on a beach" : "Stokes-limit train in deep water";
-    std::printf("worst: %s: 2A/(gamma_b h) %.4f, A/(A0 Ks Kr_max K') %.4f\n", what, aw.breaking, aw.energy);
+    std::printf("worst: %s: 2A/(gamma_b h) %.4f, A/(A0 Ks Kr_max) %.4f\n", what, aw.breaking, aw.energy);
     EXPECT_TRUE(aw.finite);
     EXPECT_LE(aw.breaking, 1.0 + 1e-9);
     EXPECT_LE(aw.energy, 1.0 + 1e-9);
@@ -270,7 +270,7 @@ TEST(HardCases, VeryLongAndVeryShortWavesForTheDepth) {
     houle::Expected<houle::WaveField> field = houle::trace_wave_field(scene, 2);
     ASSERT_TRUE(field);
     const houle::test::AmplitudeWorst aw = houle::test::amplitude_worst(scene, field.value());
-    std::printf("worst: %s: %zu samples, 2A/(gamma_b h) %.4f, A/(A0 Ks Kr_max K') %.4f\n", c.what, aw.samples,
+    std::printf("worst: %s: %zu samples, 2A/(gamma_b h) %.4f, A/(A0 Ks Kr_max) %.4f\n", c.what, aw.samples,
                 aw.breaking, aw.energy);
     EXPECT_TRUE(aw.finite);
     EXPECT_GT(aw.samples, 1000u) << c.what;

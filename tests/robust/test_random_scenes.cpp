@@ -150,7 +150,7 @@ TEST(RandomScenes, FiniteBoundedAndNoEnergyCreated) {
   }
   std::printf("worst: %d random scenes, %zu traced trains, %zu samples (%zu behind crossings)\n", scene_count, traced,
               worst.samples, worst.crossed);
-  std::printf("worst: 2A/(gamma_b h) %.4f; A/(A0 Ks Kr_max K') %.4f overall, %.4f behind crossings\n", worst.breaking,
+  std::printf("worst: 2A/(gamma_b h) %.4f; A/(A0 Ks Kr_max) %.4f overall, %.4f behind crossings\n", worst.breaking,
               worst.energy, worst.caustic);
   std::printf("worst: |h|/bound %.4f; continuity jump ratio (d/4 over d) %.3f in covered cells (%ld probes at coverage "
               "edges left out; there the ratio reaches %.3f); brightest pixel %.4g\n",

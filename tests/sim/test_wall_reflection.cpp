@@ -55,7 +55,6 @@ TEST(WallReflection, MirrorLawAmplitudeRatioAndPhaseContinuity) {
   const houle::WaveField f = traced(s);
   ASSERT_EQ(f.reflections.size(), 1u);
   EXPECT_GT(f.stats.reflected_rays, 50u);
-  EXPECT_EQ(f.stats.diffraction_evaluations, 0u);
   const WaveRays& in = f.trains[0];
   const WaveRays& re = f.reflections[0].rays;
   // The wall's unit normal towards the sea (south-east of the line).
@@ -73,7 +72,6 @@ TEST(WallReflection, MirrorLawAmplitudeRatioAndPhaseContinuity) {
   for (std::size_t r = 0; r < re.ray_count(); ++r) {
     const std::size_t b = re.sample_begin[r], e = re.sample_begin[r + 1];
     if (b == e) continue;
-    ASSERT_EQ(re.flags[r] & houle::ray_flag::diffracted, 0);
     if (re.parent_a[r] < 0) {
       // A seed: starts exactly where an incident ray ended.
       const auto it = hits.find({re.x[b], re.y[b]});

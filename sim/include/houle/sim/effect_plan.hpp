@@ -1,8 +1,9 @@
 // Effect plan: which stages a scene needs, decided once from the scene and the quality before any
 // work is done, so that a stage with nothing to do costs nothing (a deep flat sea builds no rays, a
 // scene without pierheads evaluates no diffraction coefficient, no ripples means no noise frame).
-// Animation::create follows it; `houle info` prints it; the tracer's and renderer's counters prove a
-// skipped stage did no work (DwtStats: rays, samples, diffraction_evaluations, reflected_rays = 0).
+// Animation::create follows it; `houle info` prints it; the tracer's, sea surface's and renderer's
+// counters prove a skipped stage did no work (DwtStats: rays, samples, reflected_rays = 0;
+// SeaSurface::diffraction_work: no pierhead, no evaluation).
 #pragma once
 #include <cstddef>
 #include <cstdint>

@@ -193,7 +193,8 @@ struct DwtSettings {
   /// Effect plan: trains that need no rays (train_needs_rays) get an analytic description instead.
   /// false traces them anyway (tests, benchmarks).
   bool analytic_shortcut = true;
-  /// Diffraction at pierheads: behind each one a fan of DIFFRACTED rays carries K' of this model.
+  /// Diffraction at pierheads: the sea surface adds each pierhead's diffracted wave, of this model
+  /// (sea_surface.hpp); the rays are geometric optics only.
   bool diffraction = true;
   DiffractionModel diffraction_model = DiffractionModel::exact;
   /// Reflection on walls with alpha > 0: the rays that hit them seed a reflected wave (wave_rays.hpp).

@@ -37,7 +37,8 @@ struct Island {
 std::vector<Island> find_islands(const Scene& scene);
 
 /// A pierhead (a wall end in water, inside the domain) closer to the domain's edge than a wavelength
-/// of a traced train: its diffraction fan is cut by the edge, where the tracer stops rays.
+/// of a traced train: waves pass the narrow gap between it and the edge (the sea beyond the edge is
+/// open) and diffract round it, which a wall meant to reach the edge would not let them do.
 struct EdgePierhead {
   std::size_t wall = 0;       ///< Scene::walls index
   Point2 end;                 ///< m, the wall end

@@ -20,6 +20,7 @@
 // down where the largest |B| around the node would let the profile fold.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "houle/runtime/expected.hpp"
@@ -51,6 +52,13 @@ struct TrainProbe {
   float phase = 0.0f;            ///< rad, theta = phi - (omega t - phase) reduced to [-pi, pi]
 };
 
+/// The diffraction SeaSurface::build did, summed over the trains: tests prove that a scene without a
+/// pierhead does none; `houle info` reports it.
+struct DiffractionWork {
+  std::size_t pierheads = 0;      ///< pierheads whose diffracted wave was added, once per train they diffract
+  std::uint64_t evaluations = 0;  ///< grid nodes x those pierheads at which the diffracted wave was computed
+};
+
 class SeaSurface {
  public:
   /// `cell` is the resampling grid's spacing in m (> 0).
@@ -76,6 +84,7 @@ class SeaSurface {
   const std::vector<TrainGrid>& grids() const noexcept { return grids_; }
   /// Bound of |h| (the sum of the largest amplitudes): for the marcher's slab.
   float height_bound() const noexcept { return height_bound_; }
+  const DiffractionWork& diffraction_work() const noexcept { return diffraction_work_; }
 
  private:
   SeaSurface() = default;
@@ -91,6 +100,7 @@ class SeaSurface {
   TrainGridFrame frame_{};
   std::vector<float> amplitude0_;  ///< per train, its deep-water A0
   float height_bound_ = 0.0f;
+  DiffractionWork diffraction_work_{};
 };
 
 }  // namespace houle

@@ -1,6 +1,6 @@
-// Dynamic Wave Tracing (DWT, [GL98] and docs/physics.md 2, 4.7, 5): wave orthogonals traced once per scene
+// Dynamic Wave Tracing (DWT, [GL98] and docs/physics.md 2, 5): wave orthogonals traced once per scene
 // over the sea floor, per train, with refraction, shoaling, ray insertion, caustic caps, breaking,
-// walls and diffraction fans at pierheads.
+// walls and their reflected waves. Rays are geometric optics only: diffraction is the sea surface's.
 //
 // How a train is traced (the choices [GL98] leaves open, and why; docs/physics.md 2):
 // - Rays start where the train enters the domain, on a straight front perpendicular to its direction
@@ -17,32 +17,21 @@
 //   b = mean perpendicular spacing to the neighbours over the tubes that exist at both steps (a new,
 //   dead or crossed neighbour changes nothing at that step: amplitude stays continuous). Initial rays
 //   not yet in the domain (an oblique front enters at staggered phases) bound their neighbours' tubes
-//   from their straight path outside. In a diffraction fan b / d replaces b (d from the fan's origin;
-//   eq. 7: the radial spreading is in K' already). Caps: Kr <= max_refraction_coefficient
-//   (caustics), then H <= gamma_b h and H <= 0.142 L tanh kh (breaking; the excess is dissipated
-//   and the ray flagged BROKEN).
+//   from their straight path outside. Caps: Kr <= max_refraction_coefficient (caustics), then
+//   H <= gamma_b h and H <= 0.142 L tanh kh (breaking; the excess is dissipated and the ray flagged
+//   BROKEN).
 // - Insertion: between live neighbours farther apart than b_max (never across a dead or crossed
 //   neighbour), repeated within a step until none is: at the midpoint on the common wavefront,
 //   bisecting direction, mean amplitude (a midpoint inside a wall or on land gives a dead ray, a cut).
-//   Between two rays of one diffraction fan the new ray instead starts at the pierhead with the
-//   bisecting angle and is traced up to the current wavefront.
 // - Turned back: an incident ray that refraction turns against the train's direction of travel ends
 //   there (round an island or a steep shoal, where the floor changes within a wavelength and rays no
-//   longer describe the wave); fans and reflected waves are exempt. Traced on, such rays filled the
-//   domain upstream with back-scattered rays and the inserted rays between them.
+//   longer describe the wave); reflected waves are exempt. Traced on, such rays filled the domain
+//   upstream with back-scattered rays and the inserted rays between them.
 // - The wavenumber comes from a tabulated kh(k0h) (relative error 1e-14, sim/src/dispersion_table).
-// - Diffraction ([GL98] 2.2.1): when a ray dies on a wall and its live neighbour R1 has passed one of
-//   that wall's pierheads M, a fan of DIFFRACTED rays from R1's direction to the wall's direction is
-//   born at M (on the lee corner of a thick wall), with 22.5 degree spacing, refined later by
-//   insertion. DIFFRACTED samples carry K' = |F| of the chosen model with the wall's reflection
-//   coefficient; undiffracted samples near the shadow line carry the incident-only |G(s1)| (they
-//   bring no reflected wave), blended to 1 between v = 4 and 8 (docs/physics.md 4.3 item 7). The two meet
-//   at the shadow line with a step of |F| - 1/2 (0.06 at r = L, 0.03 at 5 L for a rigid wall).
-//   K' is computed exactly at knots along each ray (a quarter wavelength apart, down to L/64 near
-//   the pierhead) and interpolated linearly in path length in between: within 5e-3 of the exact
-//   coefficient on the Fig. 4 scene (tests/sim/test_wave_tracing.cpp), for a fifth of the cost.
-//   The sweep needs a knot's value only where a breaking cap could bind (where a_geo times the
-//   bound on K', 1.171 (1 + alpha), exceeds the limit); elsewhere the final gather computes it.
+// - Diffraction is not traced: rays end where they meet a wall, and neither the rays passing a
+//   pierhead nor the reflected wave's seeds carry any diffraction coefficient. The sea surface
+//   (sea_surface.hpp) adds each pierhead's diffracted wave per grid node, from the exact Sommerfeld
+//   solution or a paper model, and cuts the rays' families at the shadow lines there.
 // - Reflection (docs/physics.md 2.6 ends rays on walls; the reflected wave is added here): the rays of a
 //   train that end on a wall with alpha > 0 seed a second trace, the train's reflected wave, as its
 //   own WaveRays. Each seed starts at the hit point with the direction mirrored about the wall
@@ -51,14 +40,11 @@
 //   Seeds are ordered as the mirror image orders them (reversed) and a seed whose neighbour did not
 //   hit the same wall is separated from it by a cut, so tubes, insertion, caustics and breaking work
 //   exactly as for the incident front (seeds reach the phase grid at staggered phases like an oblique
-//   front). One order only: reflected rays end on walls (they are not reflected again) and do not
-//   diffract. Near a pierhead the exact solution rounds the reflected wave's edge (the alpha G(s2)
-//   term); here the reflected wave ends at the last reflected ray, and its diffraction into the lee
-//   is carried by the fan's K' (which includes alpha G(s2)).
+//   front). One order only: reflected rays end on walls (they are not reflected again).
 // - TrainMesh (issue 3 asked for a rays x steps tessellation): the rays are instead resampled once
 //   per scene onto a regular grid per train (sea_surface.hpp TrainField: phase, amplitude, wave
 //   vector), which the per-frame surface samples. The grid has no holes or folds where rays cross or
-//   end, costs the same for inserted and diffracted rays, and sums trains (and reflected waves) by
+//   end, costs the same however many rays were inserted, and sums trains (and reflected waves) by
 //   adding grids; the ray structure (next_on_step, tube_next) stays available for a mesh if one is
 //   ever needed.
 // - Memory: the samples are staged per ray in chunks of 32 (slabs sized from an estimate, more
@@ -81,17 +67,16 @@
 
 namespace houle {
 
-/// Per-ray flags: how the ray was born and how it ended (DIFFRACTED, BROKEN, HIT_WALL, LEFT_DOMAIN,
-/// CROSSED, DEAD of the paper and docs/physics.md 2.2).
+/// Per-ray flags: what befell the ray and how it ended (BROKEN, HIT_WALL, LEFT_DOMAIN, CROSSED, DEAD of the paper and
+/// docs/physics.md 2.2).
 namespace ray_flag {
-inline constexpr std::uint8_t diffracted = 1u << 0;     ///< born at a pierhead
-inline constexpr std::uint8_t broken = 1u << 1;         ///< its height reached the breaking limit
-inline constexpr std::uint8_t hit_wall = 1u << 2;       ///< ended on a wall
-inline constexpr std::uint8_t left_domain = 1u << 3;    ///< ended on the domain's edge
-inline constexpr std::uint8_t crossed = 1u << 4;        ///< crossed a neighbour (a caustic)
-inline constexpr std::uint8_t dead = 1u << 5;           ///< ended (any reason; set with the reason)
-inline constexpr std::uint8_t reached_shore = 1u << 6;  ///< ended where the depth fell to h_min
-inline constexpr std::uint8_t truncated = 1u << 7;      ///< stopped by a cap (path length or samples)
+inline constexpr std::uint8_t broken = 1u << 0;         ///< its height reached the breaking limit
+inline constexpr std::uint8_t hit_wall = 1u << 1;       ///< ended on a wall
+inline constexpr std::uint8_t left_domain = 1u << 2;    ///< ended on the domain's edge
+inline constexpr std::uint8_t crossed = 1u << 3;        ///< crossed a neighbour (a caustic)
+inline constexpr std::uint8_t dead = 1u << 4;           ///< ended (any reason; set with the reason)
+inline constexpr std::uint8_t reached_shore = 1u << 5;  ///< ended where the depth fell to h_min
+inline constexpr std::uint8_t truncated = 1u << 6;      ///< stopped by a cap (path length or samples)
 }  // namespace ray_flag
 
 /// Per-sample flags.
@@ -102,7 +87,6 @@ inline constexpr std::uint8_t off_grid = 1u << 2;   ///< not on the phase grid: 
 inline constexpr std::uint8_t tube_next = 1u << 3;  ///< a sound tube joins this sample to the next ray in
                                                     ///< order with a sample on the same step (next_on_step):
                                                     ///< a quad may join them
-inline constexpr std::uint8_t diffraction = 1u << 4;  ///< a diffraction coefficient was applied
 }  // namespace sample_flag
 
 /// One train's rays. Rays are ordered across the front, r + 1 lying to the left of r (counter-
@@ -132,7 +116,6 @@ struct WaveRays {
   std::vector<std::int32_t> first_step;    ///< step of the first on-grid sample
   std::vector<std::uint8_t> flags;         ///< ray_flag bits
   std::vector<std::int32_t> parent_a, parent_b;  ///< inserted rays: their two parents; -1 otherwise
-  std::vector<std::int32_t> pierhead;      ///< DIFFRACTED rays: index into `pierheads`; -1 otherwise
 
   // Per sample: read-only views into one block (`sample_storage`, shared by copies; see
   // houle/runtime/bulk_memory.hpp for why one block).
@@ -143,21 +126,7 @@ struct WaveRays {
   std::span<const double> phase;       ///< rad, phi = integral of k ds (the surface phase is phi - omega t + train phase)
   std::span<const double> time;        ///< s, travel time integral of ds / Cg
   std::span<const std::uint8_t> sample_flags;  ///< sample_flag bits
-  /// The diffraction coefficient K' in `amplitude` (1 where none applies; per sample), or empty when
-  /// no fan was spawned for this train (K' = 1 everywhere).
-  std::span<const float> diffraction;
   std::shared_ptr<const std::byte[]> sample_storage;
-
-  /// Pierheads that spawned a fan for this train.
-  struct Pierhead {
-    double x = 0.0, y = 0.0;     ///< M, m (the wall's end point)
-    double origin_x = 0.0, origin_y = 0.0;  ///< where the fan's rays start (M, or its lee corner)
-    std::uint32_t wall = 0;      ///< index into Scene::walls
-    double phase = 0.0;          ///< rad, incident phase at M
-    double amplitude = 0.0;      ///< m, incident amplitude A_M
-    double wavenumber = 0.0;     ///< rad/m at M
-  };
-  std::vector<Pierhead> pierheads;
 
   std::size_t ray_count() const noexcept { return flags.size(); }
   std::size_t sample_count() const noexcept { return x.size(); }
@@ -182,14 +151,11 @@ struct WaveRays {
 
 /// What tracing did: tests prove skipped work is zero; `houle info` reports it.
 struct DwtStats {
-  std::uint64_t rays = 0;             ///< all rays traced (initial + inserted + diffracted)
+  std::uint64_t rays = 0;             ///< all rays traced (initial + inserted)
   std::uint64_t initial_rays = 0;
-  std::uint64_t inserted_rays = 0;    ///< by the spacing rule, diffracted insertions included
-  std::uint64_t diffracted_rays = 0;  ///< DIFFRACTED rays (fans and their insertions)
+  std::uint64_t inserted_rays = 0;    ///< by the spacing rule
   std::uint64_t samples = 0;
   std::uint64_t steps = 0;            ///< wavefront steps swept
-  std::uint64_t fans = 0;             ///< pierheads that spawned a fan
-  std::uint64_t diffraction_evaluations = 0;  ///< diffraction coefficients computed
   std::uint64_t crossings = 0;        ///< neighbour pairs that crossed
   std::uint64_t broken_rays = 0;
   std::uint64_t wall_hits = 0, left_domain = 0, reached_shore = 0;
@@ -219,7 +185,8 @@ struct WaveField {
 /// floor is uniform or deep everywhere in the domain (depth >= L0 / 2: C within 0.2 % of deep water),
 /// where crests are straight and the phase is analytic.
 bool train_needs_rays(const Scene& scene, std::size_t train) noexcept;
-/// Effect plan: is there any diffraction work (a wall end in water inside the domain, diffraction on)?
+/// Effect plan: is there any diffraction work for the sea surface (a wall end in water inside the
+/// domain, diffraction on)?
 bool scene_has_pierheads(const Scene& scene) noexcept;
 
 /// Effect plan: can any traced ray be reflected (a wall with alpha > 0, reflection on)?
@@ -234,8 +201,7 @@ DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& set
 
 /// Traces train `train` of a valid scene (Error if the scene or settings are invalid). With
 /// `threads` >= 2, steps over a large front of curving rays (64 or more) advance on two threads, and
-/// the final gather (with the exact K' at knots) is shared; the result is bit-identical to one
-/// thread's.
+/// the final gather is shared; the result is bit-identical to one thread's.
 Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtSettings& settings, DwtStats* stats = nullptr,
                                unsigned threads = 1);
 /// The reflected wave of train `train` from its traced rays `incident` (trace_train's result with
