@@ -25,7 +25,7 @@ constexpr double pi = std::numbers::pi;
 constexpr double depth = 60.0, wavelength = 8.0;  // deep water: no shoaling, L = g T^2 / (2 pi)
 constexpr double centre = 120.0;                  // the domain is [0, 240]^2
 
-double period() { return std::sqrt(2.0 * pi * wavelength / 9.80665); }
+double period() { return std::sqrt(2.0 * pi * wavelength / houle::gravity); }
 
 houle::Scene open_sea(double direction_deg, houle::Domain domain = {0.0, 0.0, 2.0 * centre, 2.0 * centre}) {
   houle::Scene s;
