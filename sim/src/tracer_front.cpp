@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <vector>
 
 #include "houle/sim/dispersion.hpp"
 #include "clip_line.hpp"
@@ -55,6 +56,17 @@ Front make_front(const Scene& scene, std::size_t train, const DwtSettings& set, 
                             : std::max<std::size_t>(2, std::size_t(std::floor(width / set.insertion_distance)) + 1);
   f.entries.resize(n);
   f.k_ref = std::numeric_limits<double>::infinity();
+  // The sea outside the domain is open, but a wall that runs out beyond its edge shadows the part of
+  // the front behind it: an entry whose straight path from well upstream (a domain diagonal back)
+  // crosses a wall is dead. Only walls reaching the edge can lie on such a path.
+  std::vector<Capsule> outside;
+  for (const Capsule& c : wall_capsules(scene.walls)) {
+    if (std::min(c.ax, c.bx) - c.radius <= d.x_min || std::max(c.ax, c.bx) + c.radius >= d.x_max ||
+        std::min(c.ay, c.by) - c.radius <= d.y_min || std::max(c.ay, c.by) + c.radius >= d.y_max) {
+      outside.push_back(c);
+    }
+  }
+  const double upstream = dist(d.x_max - d.x_min, d.y_max - d.y_min);
   for (std::size_t i = 0; i < n; ++i) {
     // Rays centred in n equal strips of the front, so none runs exactly along a domain edge.
     const double c = c_lo + (double(i) + 0.5) * width / double(n);
@@ -64,6 +76,10 @@ Front make_front(const Scene& scene, std::size_t train, const DwtSettings& set, 
     if (!clip_line(d, px, py, f.dx, f.dy, t0, t1)) continue;
     e.x = px + t0 * f.dx;
     e.y = py + t0 * f.dy;
+    if (!outside.empty() && first_wall_hit(outside, e.x - upstream * f.dx, e.y - upstream * f.dy, e.x, e.y).hit) {
+      e.behind_wall = true;
+      continue;
+    }
     const double h = medium.floor->depth(e.x, e.y);
     if (!(h > f.h_min)) continue;
     e.wave = wave_at(medium, e.x, e.y);
@@ -118,10 +134,16 @@ void TrainTracer::start_front() {
     ++main_.stats.initial_rays;
     ++main_.stats.rays;
     if (!e.water) {
-      // Enters on land (or separates two walls' reflections): a cut in the front, with no samples.
+      // Enters on land or behind a wall (or separates two walls' reflections): a cut in the front,
+      // with no samples.
       r.alive = false;
-      r.flags = reflected_ ? ray_flag::dead : ray_flag::dead | ray_flag::reached_shore;
-      if (!reflected_) ++main_.stats.reached_shore;
+      if (e.behind_wall) {
+        r.flags = ray_flag::dead | ray_flag::hit_wall;
+        ++main_.stats.wall_hits;
+      } else {
+        r.flags = reflected_ ? ray_flag::dead : ray_flag::dead | ray_flag::reached_shore;
+        if (!reflected_) ++main_.stats.reached_shore;
+      }
       continue;
     }
     r.st = RayState{e.x, e.y, e.theta, e.phi, 0.0, e.tau};

@@ -40,7 +40,8 @@ struct Entry {
   double theta = 0.0;       // rad, direction of travel
   double amplitude = 0.0;   // m, a_geo at the entry point
   LocalWave wave{};
-  bool water = false;       // false: the entry point is land (or shallower than h_min)
+  bool water = false;       // false: the entry point is land (or shallower than h_min), or behind a wall
+  bool behind_wall = false;  // a wall beyond the domain's edge shadows the entry point
 };
 
 struct Front {

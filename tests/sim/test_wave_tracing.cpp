@@ -458,6 +458,47 @@ TEST(WaveTracing, RaysEndFlaggedOnWallsAndAtTheDomainEdge) {
   }
 }
 
+TEST(WaveTracing, AWallBeyondTheEdgeShadowsTheEntryFront) {
+  // A wall from (-10, 90) to (230, 90) runs out through the domain's west edge; waves travel at 30
+  // degrees. The front entering through the west edge just north of the wall (y from 90 to 95.8 m)
+  // lies in the wall's shadow: its straight path from upstream crosses the wall's stub outside the
+  // domain. No incident sample may lie in the lee: north of the wall, between the shadow lines from
+  // its two ends (1.5 m clear of them: the wall's half thickness and a margin).
+  Scene s = flat_scene();  // waves towards 30 degrees
+  s.domain = {0.0, 0.0, 320.0, 180.0};
+  houle::Wall wall;
+  wall.points = {{-10.0, 90.0}, {230.0, 90.0}};
+  wall.thickness = 2.0;
+  s.walls = {wall};
+  houle::DwtStats stats;
+  const WaveRays w = trace(s, 0, &stats);
+  EXPECT_TRUE(all_finite(w));
+  const double nx = -0.5, ny = std::sqrt(3.0) / 2.0;  // left of the direction of travel
+  auto left_of = [&](double x, double y, double mx, double my) { return (x - mx) * nx + (y - my) * ny; };
+  std::size_t in_lee = 0, lit_west = 0, shadowed = 0;
+  for (std::size_t r = 0; r < w.ray_count(); ++r) {
+    if ((w.flags[r] & rf::hit_wall) && w.sample_begin[r] == w.sample_begin[r + 1]) ++shadowed;
+    for (std::size_t i = w.sample_begin[r]; i < w.sample_begin[r + 1]; ++i) {
+      const double x = w.x[i], y = w.y[i];
+      if (!(y > 91.5)) continue;
+      const double from_west = left_of(x, y, -10.0, 90.0), from_east = left_of(x, y, 230.0, 90.0);
+      if (from_west < -1.5 && from_east > 1.5) ++in_lee;
+      if (from_west > 1.5 && x < 100.0) ++lit_west;
+    }
+  }
+  EXPECT_EQ(in_lee, 0u);
+  EXPECT_GT(lit_west, 1000u);  // west of the shadow line the front enters as before
+  EXPECT_GT(shadowed, 0u);     // the entries behind the wall: dead, on the wall, without samples
+  // A wall that stays inside the domain shadows nothing of the entry front.
+  s.walls[0].points = {{10.0, 90.0}, {230.0, 90.0}};
+  const WaveRays inside = trace(s);
+  for (std::size_t r = 0; r < inside.ray_count(); ++r) {
+    if (inside.flags[r] & rf::hit_wall) {
+      EXPECT_GT(inside.sample_begin[r + 1], inside.sample_begin[r]);
+    }
+  }
+}
+
 // ---- Determinism (docs/physics.md 8.11) -----------------------------------------------------------------
 
 template <class T>

@@ -5,7 +5,10 @@
 // How a train is traced (the choices [GL98] leaves open, and why; docs/physics.md 2):
 // - Rays start where the train enters the domain, on a straight front perpendicular to its direction
 //   (outside the domain the sea is taken as uniform at the entry depth: phase = k_entry x distance
-//   from the upstream corner's wavefront, amplitude A0 Ks(h_entry), direction unchanged).
+//   from the upstream corner's wavefront, amplitude A0 Ks(h_entry), direction unchanged). A wall
+//   that runs out beyond the domain's edge shadows the entries behind it (their straight path from a
+//   domain diagonal upstream crosses it): those rays are dead from the start, a cut in the front as
+//   an entry on land is, flagged HIT_WALL.
 // - Equal-phase stepping (docs/physics.md 2.2): rays advance by the same phase increment
 //   dphi = k_ref * step (k_ref: the deepest entry point's k), i.e. ds = dphi / k. Sample j of every
 //   ray then lies on the same crest, so neighbours are compared, inserted and tessellated on a common
