@@ -8,7 +8,9 @@
 
 namespace houle::detail {
 
-void march_carrier(std::size_t nx, std::size_t ny, double cell, const std::vector<float>& k, std::vector<double>& phase,
+void march_carrier(std::size_t nx, std::size_t ny, double cell, const std::vector<float>& k,
+                   const std::vector<std::uint8_t>& near_wall,
+                   const std::function<bool(std::size_t, std::size_t)>& crosses_wall, std::vector<double>& phase,
                    std::vector<double>& kx, std::vector<double>& ky) {
   const std::size_t nodes = nx * ny;
   std::vector<std::uint8_t> seeded(nodes, 0);
@@ -36,6 +38,7 @@ void march_carrier(std::size_t nx, std::size_t ny, double cell, const std::vecto
       if (done[q] || seeded[q] || !(k[q] > 0.0f)) continue;
       const double step = 0.5 * (double(k[n]) + double(k[q])) * cell * std::sqrt(double(m[0] * m[0] + m[1] * m[1]));
       if (std::isfinite(phase[q]) && phase[q] <= p + step) continue;
+      if ((near_wall[n] || near_wall[q]) && crosses_wall(n, q)) continue;
       phase[q] = p + step;
       front.push({phase[q], q});
     }

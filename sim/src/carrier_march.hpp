@@ -2,6 +2,8 @@
 // lee of walls and islands, the shallows beyond the rays' last samples. Internal to houle_sim.
 #pragma once
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace houle::detail {
@@ -11,7 +13,11 @@ namespace houle::detail {
 /// knight's moves cut the grid's anisotropy to 2.6 %), each move costing the mean of its two nodes' k
 /// times its length. Every phase set here has a wave vector (kx, ky): the central difference of the
 /// phases around it, one-sided at the edge of what was set. Deterministic: ties go to the lower node.
-void march_carrier(std::size_t nx, std::size_t ny, double cell, const std::vector<float>& k, std::vector<double>& phase,
+/// A move between two nodes one of which is flagged in `near_wall` is taken only if `crosses_wall`
+/// says its segment crosses no wall.
+void march_carrier(std::size_t nx, std::size_t ny, double cell, const std::vector<float>& k,
+                   const std::vector<std::uint8_t>& near_wall,
+                   const std::function<bool(std::size_t, std::size_t)>& crosses_wall, std::vector<double>& phase,
                    std::vector<double>& kx, std::vector<double>& ky);
 
 }  // namespace houle::detail

@@ -11,6 +11,7 @@
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "carrier_march.hpp"
+#include "dispersion_table.hpp"
 #include "ray_walls.hpp"
 
 namespace houle {
@@ -160,9 +161,11 @@ struct Pierhead {
 /// crosses) and how far it goes before land or a wall stops it.
 class RadialTable {
  public:
-  RadialTable(const Pierhead& p, const Bathymetry& floor, const std::vector<detail::Capsule>& walls, double omega,
-              double h_min, double r_max, double step)
-      : step_(step), uniform_(floor.uniform()), k_m_(p.k), samples_(std::size_t(std::ceil(r_max / step)) + 2),
+  /// Along each direction from M the grid's nearest nodes give the wavenumber (0 on land) and the
+  /// depth, every `step` m.
+  RadialTable(const Pierhead& p, const GridGeometry& g, const std::vector<float>& depths, const std::vector<float>& wavenumber,
+              bool uniform, const std::vector<detail::Capsule>& walls, double h_min, double r_max, double step)
+      : step_(step), uniform_(uniform), k_m_(p.k), samples_(std::size_t(std::ceil(r_max / step)) + 2),
         reach_(angles, float(r_max + step)) {
     if (!uniform_) phase_.assign(angles * samples_, 0.0f);
     // The segment that ends at M is the semi-infinite wall of the solution: no line from M crosses
@@ -180,12 +183,18 @@ class RadialTable {
       double reach = hit.hit ? start + hit.u * (r_max - start) : r_max + step;
       if (!uniform_) {
         float* phase = &phase_[a * samples_];
-        double sum = 0.0;
-        for (std::size_t i = 1; i < samples_; ++i) {
-          const double r = (double(i) - 0.5) * step;
-          const double h = floor.depth(p.site.x + r * c, p.site.y + r * s);
-          if (!(h > h_min) && r > start) reach = std::min(reach, r);
-          sum += linear_wave(omega, std::max(h, min_depth)).k * step;
+        double sum = 0.0, k_last = k_m_;
+        for (std::size_t i = 1; i < samples_ && double(i - 1) * step < reach; ++i) {
+          const double r = double(i) * step;
+          const long ni = std::lround((p.site.x + r * c - g.x0) / g.cell), nj = std::lround((p.site.y + r * s - g.y0) / g.cell);
+          double k = k_last;
+          if (ni >= 0 && nj >= 0 && ni < long(g.nx) && nj < long(g.ny)) {
+            const std::size_t n = std::size_t(nj) * g.nx + std::size_t(ni);
+            if (!(depths[n] > h_min)) reach = std::min(reach, r);
+            k = wavenumber[n] > 0.0f ? double(wavenumber[n]) : k_last;
+          }
+          sum += 0.5 * (k_last + k) * step;
+          k_last = k;
           phase[i] = float(sum);
         }
       }
@@ -289,6 +298,7 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
   const Domain& d = scene.domain;
   s.trains_.resize(count);
   s.grids_.resize(count);
+  std::vector<float> depths;
   for (std::size_t t = 0; t < count; ++t) {
     const WaveRays& rays = field.trains[t];
     TrainField& f = s.trains_[t];
@@ -314,7 +324,14 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
       for (const ReflectedWave& r : field.reflections) {
         if (r.train == t) reflected.push_back(&r.rays);
       }
-      b_max = s.resample(t, scene, floor, rays, reflected);
+      if (depths.empty()) {
+        // The floor under the grid, shared by every traced train.
+        depths.resize(std::size_t(g.nx) * g.ny);
+        for (std::size_t n = 0; n < depths.size(); ++n) {
+          depths[n] = float(floor.depth(double(g.origin_x) + double(n % g.nx) * cell, double(g.origin_y) + double(n / g.nx) * cell));
+        }
+      }
+      b_max = s.resample(t, scene, floor, depths, rays, reflected);
     }
     s.height_bound_ += b_max;
   }
@@ -324,8 +341,8 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
   return s;
 }
 
-float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const WaveRays& rays,
-                           const std::vector<const WaveRays*>& reflected) {
+float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const std::vector<float>& depths,
+                           const WaveRays& rays, const std::vector<const WaveRays*>& reflected) {
   TrainField& f = trains_[t];
   TrainGrid& g = grids_[t];
   const GridGeometry geo{g.origin_x, g.origin_y, g.cell, g.nx, g.ny};
@@ -382,18 +399,27 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     reflections[r].splat(geo, g, w, off_the_face, radius, walls);
   }
 
+  // The local wave at every water node (kh by table, docs/physics.md 1.2; 0 on land).
+  const double k0 = deep_water_wavenumber(rays.omega);
+  std::vector<float> wavenumber(nodes, 0.0f), kh_at(nodes, 0.0f);
+  for (std::size_t n = 0; n < nodes; ++n) {
+    if (!(depths[n] > 0.0f)) continue;
+    const double kh = detail::kh_from_table(k0 * double(depths[n]));
+    kh_at[n] = float(kh);
+    wavenumber[n] = float(kh / double(depths[n]));
+  }
+  const auto breaking_limit = [&](std::size_t n) {
+    const double h = std::max(double(depths[n]), min_depth), k = double(wavenumber[n]);
+    return std::min(0.5 * scene.dwt.breaker_index * h, 0.071 * two_pi / k * std::tanh(double(kh_at[n])));
+  };
   std::vector<RadialTable> radials;
   const double far_corner = std::hypot(double(geo.nx - 1) * geo.cell, double(geo.ny - 1) * geo.cell);
-  for (const Pierhead& p : pierheads) radials.emplace_back(p, floor, walls, rays.omega, rays.min_depth, far_corner, double(g.cell));
-  const double omega = rays.omega;
-  const LinearWave uniform_wave = linear_wave(omega, std::max(floor.depth(geo.x0, geo.y0), min_depth));
-  const auto breaking_limit = [&](double h, const LinearWave& w) {
-    return std::min(0.5 * scene.dwt.breaker_index * h, 0.071 * two_pi / w.k * std::tanh(w.kh));
-  };
+  for (const Pierhead& p : pierheads) {
+    radials.emplace_back(p, geo, depths, wavenumber, floor.uniform(), walls, rays.min_depth, far_corner, 2.0 * double(g.cell));
+  }
 
   // Pass 1, per node: everything of the train's frequency that arrives, summed relative to the far
   // field's phase psi; the incident rays' phase seeds the carrier where they are lit.
-  std::vector<float> depths(nodes), wavenumber(nodes, 0.0f);
   std::vector<cplx> sums(nodes, 0.0);
   std::vector<std::uint8_t> has_wave(nodes, 0);
   std::vector<double> carrier(nodes, NAN), carrier_kx(nodes, 0.0), carrier_ky(nodes, 0.0), reference(nodes, 0.0);
@@ -401,11 +427,9 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
   for (std::size_t n = 0; n < nodes; ++n) {
     const double x = geo.x(n), y = geo.y(n);
     const double psi = double(g.far_kx) * x + double(g.far_ky) * y - g.far_offset;
-    const double depth = floor.depth(x, y);
-    depths[n] = float(depth);
+    const double depth = double(depths[n]);
     if (!(depth > 0.0)) continue;  // land: no wave, and the carrier does not cross it
-    const LinearWave wave = floor.uniform() ? uniform_wave : linear_wave(omega, depth);
-    wavenumber[n] = float(wave.k);
+    const double local_kh = double(kh_at[n]);
     // Where the rays stopped short of the shore nothing arrives here: the shoreline pass below.
     if (!(depth > rays.min_depth)) continue;
     // Each pierhead's frame at this node, the optical distance k r from it and its incident
@@ -416,7 +440,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       v.polar = breakwater_polar(p.frame, x, y);
       v.k_r = p.k * v.polar.r;
       v.reached = radials[q].optical_distance(x - p.site.x, y - p.site.y, v.polar.r, v.k_r);
-      v.amplitude = p.amplitude * shoaling_coefficient(wave.kh) / shoaling_coefficient(p.k * p.depth);
+      v.amplitude = p.amplitude * shoaling_coefficient(local_kh) / shoaling_coefficient(p.k * p.depth);
     }
     // Pierhead q's geometric-optics plane wave, relative to psi (incident: sign -1, along the shadow
     // line; reflected: sign +1, along the mirror line).
@@ -443,9 +467,6 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     }
     if (lit) {
       sum += cplx(incident.re[n], incident.im[n]);
-      carrier[n] = incident.phase[n];
-      carrier_kx[n] = incident.kx[n];
-      carrier_ky[n] = incident.ky[n];
     } else if (fill < pierheads.size()) {
       sum += plane_wave(fill, -1.0);
     }
@@ -510,10 +531,38 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     has_wave[n] = arrived ? 1 : 0;
   }
 
-  // The carrier where no lit incident ray set it: first arrivals through the water from where they
-  // did, continuous across shadow lines and the ends of ray coverage; the far field's phase where
-  // nothing connects (a pond cut off by land).
-  detail::march_carrier(geo.nx, geo.ny, geo.cell, wavenumber, carrier, carrier_kx, carrier_ky);
+  // The carrier: the train's first arrivals through the water (an eikonal solution: what the rays
+  // follow where they do not cross, and continuous where they cross, end or are cut at a shadow
+  // line), marched from where its rays enter the domain, round land and walls (no move of the
+  // stencil crosses a wall).
+  std::vector<std::uint8_t> near_wall(nodes, 0);
+  for (const detail::Capsule& c : walls) {
+    const double reach = c.radius + 2.5 * geo.cell;  // the stencil's longest move, and some
+    const long i0 = std::max(0L, long(std::floor((std::min(c.ax, c.bx) - reach - geo.x0) / geo.cell)));
+    const long i1 = std::min(long(geo.nx) - 1, long(std::ceil((std::max(c.ax, c.bx) + reach - geo.x0) / geo.cell)));
+    const long j0 = std::max(0L, long(std::floor((std::min(c.ay, c.by) - reach - geo.y0) / geo.cell)));
+    const long j1 = std::min(long(geo.ny) - 1, long(std::ceil((std::max(c.ay, c.by) + reach - geo.y0) / geo.cell)));
+    for (long j = j0; j <= j1; ++j) {
+      for (long i = i0; i <= i1; ++i) {
+        const std::size_t n = std::size_t(j) * geo.nx + std::size_t(i);
+        if (detail::point_segment_dist2(geo.x(n), geo.y(n), c) <= reach * reach) near_wall[n] = 1;
+      }
+    }
+  }
+  const auto crosses_wall = [&](std::size_t a, std::size_t b) {
+    return detail::first_wall_hit(walls, geo.x(a), geo.y(a), geo.x(b), geo.y(b)).hit;
+  };
+  for (std::size_t n = 0; n < nodes; ++n) {
+    const std::size_t i = n % geo.nx, j = n / geo.nx;
+    // An upstream edge node the incident rays reached: the far field's phase, as the tracer's entry.
+    const bool upstream = (i == 0 && g.far_kx > 0.0f) || (i + 1 == geo.nx && g.far_kx < 0.0f) ||
+                          (j == 0 && g.far_ky > 0.0f) || (j + 1 == geo.ny && g.far_ky < 0.0f);
+    if (!upstream || !incident.covers(n) || !(wavenumber[n] > 0.0f)) continue;
+    carrier[n] = double(g.far_kx) * geo.x(n) + double(g.far_ky) * geo.y(n) - g.far_offset;
+    carrier_kx[n] = g.far_kx;
+    carrier_ky[n] = g.far_ky;
+  }
+  detail::march_carrier(geo.nx, geo.ny, geo.cell, wavenumber, near_wall, crosses_wall, carrier, carrier_kx, carrier_ky);
 
   // Pass 2: the sum relative to the carrier, capped by breaking (the waves that meet at a node
   // break as one: each ray is capped so, their sum and a diffracted wave shoaled into shallow water
@@ -532,9 +581,8 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     f.ky[n] = float(carrier_ky[n]);
     if (!has_wave[n]) continue;
     const double h = std::max(double(depths[n]), min_depth);
-    const LinearWave wave = floor.uniform() ? uniform_wave : linear_wave(omega, h);
     cplx b = sums[n] * std::polar(1.0, psi - carrier[n]);
-    const double limit = breaking_limit(h, wave);
+    const double limit = breaking_limit(n);
     if (std::abs(b) > limit) b *= limit / std::abs(b);
     f.b_re[n] = float(b.real());
     f.b_im[n] = float(b.imag());
@@ -564,11 +612,11 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       // The wave keeps its direction; its phase advances by the mean k of both nodes; relative to
       // m's own carrier.
       const double h = double(depths[m]), k = std::hypot(double(f.kx[n]), double(f.ky[n]));
-      const LinearWave wave = linear_wave(omega, h);
-      const double scale = magnitude[n] > breaking_limit(h, wave) ? breaking_limit(h, wave) / magnitude[n] : 1.0;
+      const double limit = breaking_limit(m), k_m = double(wavenumber[m]);
+      const double scale = magnitude[n] > limit ? limit / magnitude[n] : 1.0;
       const double ux = k > 0.0 ? double(f.kx[n]) / k : 0.0, uy = k > 0.0 ? double(f.ky[n]) / k : 0.0;
       const double along = ux * (geo.x(m) - geo.x(n)) + uy * (geo.y(m) - geo.y(n));
-      const double turn = double(f.phi[n]) + 0.5 * (k + wave.k) * along - double(f.phi[m]);
+      const double turn = double(f.phi[n]) + 0.5 * (k + k_m) * along - double(f.phi[m]);
       const cplx b = cplx(f.b_re[n], f.b_im[n]) * scale * std::polar(1.0, turn);
       f.b_re[m] = float(b.real());
       f.b_im[m] = float(b.imag());

@@ -91,9 +91,10 @@ class SeaSurface {
   // The grids point into trains_' arrays and frame_ into grids_: moving keeps both (vectors move
   // their buffers), copying would not.
   SeaSurface(const SeaSurface&) = delete;
-  /// Fills train t's grid (its geometry set) from its rays and reflected waves; returns max |B|.
-  float resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const WaveRays& rays,
-                 const std::vector<const WaveRays*>& reflected);
+  /// Fills train t's grid (its geometry set) from its rays and reflected waves, over the floor's
+  /// depths at its nodes; returns max |B|.
+  float resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const std::vector<float>& depths,
+                 const WaveRays& rays, const std::vector<const WaveRays*>& reflected);
 
   std::vector<TrainField> trains_;
   std::vector<TrainGrid> grids_;  ///< per train, pointing into trains_' arrays
