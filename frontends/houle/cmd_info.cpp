@@ -66,8 +66,8 @@ std::vector<std::string> scene_warnings(const Scene& s) {
   for (std::size_t i = 0; i < std::min(islands.size(), max_island_warnings); ++i) {
     const Island& is = islands[i];
     const char* why = "(land rising through the surface inside the domain, clear of its edges): rays passing either side "
-                      "meet again in its lee, where the sea keeps one ray family per point, so the waves there may be "
-                      "wrong; check them with houle probe";
+                      "cross again in its lee, where the sea averages the two branches instead of adding them, so the "
+                      "waves there may be too low; check them with houle probe";
     if (is.low.x == is.high.x && is.low.y == is.high.y) {
       std::snprintf(buf, sizeof buf, "an island at (%.1f, %.1f) m %s", is.low.x, is.low.y, why);
     } else {

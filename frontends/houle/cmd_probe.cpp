@@ -95,7 +95,8 @@ coefficient K', the wavelength, the direction of travel and the phase.
                      the per-train fields below); a value that is not finite is null
   --csv              a header line, then a row per point, time and train (in that order):
                      x,y,t,where,depth,height,grad_x,grad_y,train,amplitude,relative_amplitude,
-                     diffraction,wavelength,direction_deg,phase (a scene without trains gives one row
+                     diffraction,wavelength,direction_deg,phase,incident,diffracted,reflected (a
+                     scene without trains gives one row
                      per point and time, its train fields empty; a value that is not finite is empty)
 
 where: water; land (the floor at or above still water: no waves); wall (within half its thickness
@@ -103,7 +104,9 @@ of a wall's axis: no water); outside (outside the scene's domain, where no rays 
 train continues as straight crests; more than 100 km out is refused). depth: m below still water,
 from the scene's floor (negative on land). height (m above still water), grad_x, grad_y: the trains
 and their reflected waves summed (capillary ripples not included). Per train: amplitude (m), relative_amplitude (A/A0), diffraction (K'), wavelength
-(m), direction_deg (travel, counter-clockwise from +x), phase (rad, in [-pi, pi]). The text output
+(m), direction_deg (travel, counter-clockwise from +x), phase (rad, in [-pi, pi]), and the amplitude
+(m) of each part of its field: incident (its rays), diffracted (every pierhead's diffracted wave),
+reflected (its reflected waves); the parts add as waves, not as amplitudes. The text output
 says plainly where a point is on land or in a wall and gives no wave values there; JSON and CSV give
 the values the surface evaluates everywhere, with `where` beside them.)");
     return 0;
@@ -162,7 +165,7 @@ the values the surface evaluates everywhere, with `where` beside them.)");
     std::fprintf(stderr, "houle probe: %s: %s\n", field.error().field.c_str(), field.error().message.c_str());
     return 2;
   }
-  Expected<SeaSurface> sea = SeaSurface::build(*scene, field.value(), sea_cell);
+  Expected<SeaSurface> sea = SeaSurface::build(*scene, field.value(), sea_cell, SeaParts::keep);
   if (!sea) {
     std::fprintf(stderr, "houle probe: %s\n", sea.error().message.c_str());
     return 1;
@@ -171,7 +174,7 @@ the values the surface evaluates everywhere, with `where` beside them.)");
   if (format == Format::json) std::printf("[");
   if (format == Format::csv) {
     std::printf("x,y,t,where,depth,height,grad_x,grad_y,train,amplitude,relative_amplitude,diffraction,wavelength,"
-                "direction_deg,phase\n");
+                "direction_deg,phase,incident,diffracted,reflected\n");
   }
   bool first = true;
   for (const std::vector<double>& p : points) {
@@ -195,7 +198,7 @@ the values the surface evaluates everywhere, with `where` beside them.)");
       } else if (format == Format::csv) {
         std::snprintf(head, sizeof head, "%g,%g,%.10g,%s,%s,%s,%s,%s", p[0], p[1], t, where.c_str(), number(depth, "").c_str(),
                       number(h, "").c_str(), number(gx, "").c_str(), number(gy, "").c_str());
-        if (scene->trains.empty()) std::printf("%s,,,,,,,\n", head);
+        if (scene->trains.empty()) std::printf("%s,,,,,,,,,,\n", head);
       } else {
         print_text_row(p[0], p[1], t, place, depth, h, gx, gy);
       }
@@ -205,18 +208,22 @@ the values the surface evaluates everywhere, with `where` beside them.)");
         const TrainProbe tp = sea->probe(k, x, y);
         if (format == Format::json) {
           std::printf("%s{\"amplitude\": %s, \"relative_amplitude\": %s, \"diffraction\": %s, \"wavelength\": %s, "
-                      "\"direction_deg\": %s, \"phase\": %s}",
+                      "\"direction_deg\": %s, \"phase\": %s, \"incident\": %s, \"diffracted\": %s, \"reflected\": %s}",
                       k ? ", " : "", number(tp.amplitude, "null").c_str(), number(tp.relative_amplitude, "null").c_str(),
                       number(tp.diffraction, "null").c_str(), number(tp.wavelength, "null").c_str(),
-                      number(tp.direction_deg, "null").c_str(), number(tp.phase, "null").c_str());
+                      number(tp.direction_deg, "null").c_str(), number(tp.phase, "null").c_str(),
+                      number(tp.incident, "null").c_str(), number(tp.diffracted, "null").c_str(),
+                      number(tp.reflected, "null").c_str());
         } else if (format == Format::csv) {
-          std::printf("%s,%zu,%s,%s,%s,%s,%s,%s\n", head, k, number(tp.amplitude, "").c_str(),
+          std::printf("%s,%zu,%s,%s,%s,%s,%s,%s,%s,%s,%s\n", head, k, number(tp.amplitude, "").c_str(),
                       number(tp.relative_amplitude, "").c_str(), number(tp.diffraction, "").c_str(),
-                      number(tp.wavelength, "").c_str(), number(tp.direction_deg, "").c_str(), number(tp.phase, "").c_str());
+                      number(tp.wavelength, "").c_str(), number(tp.direction_deg, "").c_str(), number(tp.phase, "").c_str(),
+                      number(tp.incident, "").c_str(), number(tp.diffracted, "").c_str(), number(tp.reflected, "").c_str());
         } else if (text_values) {
           std::printf("  train %zu: amplitude %.4f m (x%.3f of deep water, diffraction K' %.3f), wavelength %.3f m, towards "
-                      "%.1f deg, phase %.3f rad\n",
-                      k, tp.amplitude, tp.relative_amplitude, tp.diffraction, tp.wavelength, tp.direction_deg, tp.phase);
+                      "%.1f deg, phase %.3f rad; parts: incident %.4f m, diffracted %.4f m, reflected %.4f m\n",
+                      k, tp.amplitude, tp.relative_amplitude, tp.diffraction, tp.wavelength, tp.direction_deg, tp.phase,
+                      tp.incident, tp.diffracted, tp.reflected);
         }
       }
       if (format == Format::json) std::printf("]}");

@@ -283,7 +283,7 @@ double from_half_line(double px, double py, double mx, double my, double dx, dou
 
 }  // namespace
 
-Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& field, float cell) {
+Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& field, float cell, SeaParts parts) {
   if (!(cell > 0.0f)) return Error{"cell", "a resampling cell > 0 m"};
   if (field.trains.size() != scene.trains.size()) return Error{"field", "one traced train per scene train"};
   const std::size_t count = field.trains.size();
@@ -294,6 +294,7 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
     if (r.train >= count) return Error{"field", "a reflected wave of a train the scene has"};
   }
   SeaSurface s;
+  s.parts_ = parts;
   const Bathymetry floor(scene.floor);
   const Domain& d = scene.domain;
   s.trains_.resize(count);
@@ -331,7 +332,7 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
           depths[n] = float(floor.depth(double(g.origin_x) + double(n % g.nx) * cell, double(g.origin_y) + double(n / g.nx) * cell));
         }
       }
-      b_max = s.resample(t, scene, floor, depths, rays, reflected);
+      b_max = s.resample(t, scene, floor, depths, rays, reflected, parts);
     }
     s.height_bound_ += b_max;
   }
@@ -342,7 +343,7 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
 }
 
 float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const std::vector<float>& depths,
-                           const WaveRays& rays, const std::vector<const WaveRays*>& reflected) {
+                           const WaveRays& rays, const std::vector<const WaveRays*>& reflected, SeaParts parts) {
   TrainField& f = trains_[t];
   TrainGrid& g = grids_[t];
   const GridGeometry geo{g.origin_x, g.origin_y, g.cell, g.nx, g.ny};
@@ -384,6 +385,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
 
   for (std::vector<float>* v : {&f.phi, &f.b_re, &f.b_im, &f.kx, &f.ky, &f.fold, &f.lean}) v->assign(nodes, 0.0f);
   f.diffraction.assign(pierheads.empty() ? 0 : nodes, 0.0f);
+  for (std::vector<float>* v : {&f.incident, &f.diffracted, &f.reflected}) v->assign(parts == SeaParts::keep ? nodes : 0, 0.0f);
   std::vector<FamilyField> reflections(reflected.size());
   for (std::size_t r = 0; r < reflected.size(); ++r) {
     // Rays reflected off a pierhead's rounded end would spray its reflection round the tip: the
@@ -450,7 +452,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       const double phase = p.phase - v.k_r * std::cos(v.polar.theta + sign * v.polar.theta0);
       return v.amplitude * (sign < 0.0 ? 1.0 : p.site.reflection) * std::polar(1.0, phase - psi);
     };
-    cplx sum = 0.0;
+    cplx incident_part = 0.0, reflected_part = 0.0, diffracted_part = 0.0;
     // The incident rays, cut at every pierhead's shadow line. The last ray may pass up to a ray
     // spacing from M: where none reached near the line, the pierhead's plane wave fills the gap.
     if (incident.covers(n)) reference[n] = std::hypot(incident.re[n], incident.im[n]);
@@ -466,9 +468,9 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       }
     }
     if (lit) {
-      sum += cplx(incident.re[n], incident.im[n]);
+      incident_part += cplx(incident.re[n], incident.im[n]);
     } else if (fill < pierheads.size()) {
-      sum += plane_wave(fill, -1.0);
+      incident_part += plane_wave(fill, -1.0);
     }
     bool arrived = lit || fill < pierheads.size();
     // The reflected waves, cut and filled in the same way at their shadow lines (the exact model
@@ -484,14 +486,14 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
         if (beyond_reflection(views[q].polar)) beyond = true;
       }
       if (beyond) continue;
-      sum += cplx(r.re[n], r.im[n]);
+      reflected_part += cplx(r.re[n], r.im[n]);
       arrived = true;
     }
     for (std::size_t q = 0; q < pierheads.size() && model == DiffractionModel::exact && !reflection_covers; ++q) {
       const Pierhead& p = pierheads[q];
       if (p.site.reflection <= 0.0 || from_half_line(x, y, p.site.x, p.site.y, p.mirror_x, p.mirror_y) >= band) continue;
       if (beyond_reflection(views[q].polar)) continue;
-      sum += plane_wave(q, 1.0);
+      reflected_part += plane_wave(q, 1.0);
       arrived = true;
       break;
     }
@@ -514,7 +516,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
         d = std::polar(sample->K, sample->phase);
         if (!in_shadow(v.polar)) d -= go1;
       }
-      sum += v.amplitude * d * std::polar(1.0, p.phase - psi);
+      diffracted_part += v.amplitude * d * std::polar(1.0, p.phase - psi);
       arrived = true;
       ++diffraction_work_.evaluations;
     }
@@ -527,7 +529,12 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       }
       reference[n] = views[nearest].amplitude;
     }
-    sums[n] = sum;
+    sums[n] = incident_part + reflected_part + diffracted_part;
+    if (parts == SeaParts::keep) {
+      f.incident[n] = float(std::abs(incident_part));
+      f.diffracted[n] = float(std::abs(diffracted_part));
+      f.reflected[n] = float(std::abs(reflected_part));
+    }
     has_wave[n] = arrived ? 1 : 0;
   }
 
@@ -669,16 +676,17 @@ TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept
   HOULE_ASSERT(train < trains_.size(), "SeaSurface::probe: a train of the scene");
   const TrainGrid& g = grids_[train];
   const TrainGridFields l = train_grid_fields(g, x, y);
-  float diffraction = 1.0f;
-  const std::vector<float>& q = trains_[train].diffraction;
   const float gx = (x - g.origin_x) / g.cell, gy = (y - g.origin_y) / g.cell;
-  if (!q.empty() && gx >= 0.0f && gy >= 0.0f && gx <= float(g.nx - 1) && gy <= float(g.ny - 1)) {
-    // Bilinear, as the kernel interpolates the other fields.
+  const bool on_grid = gx >= 0.0f && gy >= 0.0f && gx <= float(g.nx - 1) && gy <= float(g.ny - 1);
+  // Bilinear, as the kernel interpolates the other fields; `outside` off the grid or without the field.
+  const auto at = [&](const std::vector<float>& q, float outside) {
+    if (q.empty() || !on_grid) return outside;
     const std::size_t i = std::min(std::size_t(gx), std::size_t(g.nx) - 2), j = std::min(std::size_t(gy), std::size_t(g.ny) - 2);
     const float u = gx - float(i), v = gy - float(j);
     const std::size_t n00 = j * g.nx + i;
-    diffraction = (q[n00] * (1.0f - u) + q[n00 + 1] * u) * (1.0f - v) + (q[n00 + g.nx] * (1.0f - u) + q[n00 + g.nx + 1] * u) * v;
-  }
+    return (q[n00] * (1.0f - u) + q[n00 + 1] * u) * (1.0f - v) + (q[n00 + g.nx] * (1.0f - u) + q[n00 + g.nx + 1] * u) * v;
+  };
+  const TrainField& f = trains_[train];
   const float k = std::sqrt(l.kx * l.kx + l.ky * l.ky);
   TrainProbe p;
   p.amplitude = std::hypot(l.b_re, l.b_im);
@@ -686,7 +694,13 @@ TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept
   p.wavelength = k > 0.0f ? float(two_pi) / k : 0.0f;
   p.direction_deg = float(std::atan2(l.ky, l.kx) * 180.0 / pi);
   p.phase = float(std::remainder(double(l.phi) + std::atan2(double(l.b_im), double(l.b_re)) - double(frame_.time_phase[train]), two_pi));
-  p.diffraction = diffraction;
+  p.diffraction = at(f.diffraction, 1.0f);
+  if (parts_ == SeaParts::keep) {
+    // Off the grid, and for an analytic train, the train is its far field: all incident.
+    p.incident = at(f.incident, p.amplitude);
+    p.diffracted = at(f.diffracted, 0.0f);
+    p.reflected = at(f.reflected, 0.0f);
+  }
   return p;
 }
 

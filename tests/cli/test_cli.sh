@@ -322,8 +322,8 @@ else
 fi
 if "$houle" probe --at 150,150 --at 100,60 --times 2:3:0.5 --csv | python3 -c 'import csv,sys
 rows = list(csv.reader(sys.stdin))
-assert rows[0] == "x,y,t,where,depth,height,grad_x,grad_y,train,amplitude,relative_amplitude,diffraction,wavelength,direction_deg,phase".split(",")
-assert len(rows) == 1 + 2 * 3 * 3 and all(len(r) == 15 for r in rows)
+assert rows[0] == "x,y,t,where,depth,height,grad_x,grad_y,train,amplitude,relative_amplitude,diffraction,wavelength,direction_deg,phase,incident,diffracted,reflected".split(",")
+assert len(rows) == 1 + 2 * 3 * 3 and all(len(r) == 18 for r in rows)
 assert [(r[0], r[1], r[2], r[3], r[8]) for r in rows[1:4]] == [("150", "150", "2", "wall", k) for k in "012"]
 assert [r[2] for r in rows[10::3]] == ["2", "2.5", "3"] and {r[3] for r in rows[10:]} == {"water"}
 assert all(float(v) == float(v) for r in rows[1:] for v in r[4:8] + r[9:])'; then
@@ -333,7 +333,7 @@ else
 fi
 f=$(scene no-trains '[floor.base]
 depth = 5.0')
-expect probe-csv-no-trains 0 '^1,2,0\.5,water,5,0,0,0,,,,,,,$' "$houle" probe "$f" --at 1,2 --times 0:0.5:0.5 --csv
+expect probe-csv-no-trains 0 '^1,2,0\.5,water,5,0,0,0,,,,,,,,,,$' "$houle" probe "$f" --at 1,2 --times 0:0.5:0.5 --csv
 expect probe-json-csv 2 'probe: --json and --csv exclude each other' "$houle" probe --at 1,2 --json --csv
 expect probe-at-t-times 2 'probe: --at 1,2,3 gives its own time, and --times gives the times of every point' "$houle" probe --at 1,2,3 --times 0:1:0.5
 expect probe-times-form 2 "probe: --times expects T0:T1:DT in s .*got '0:1'" "$houle" probe --at 1,2 --times 0:1

@@ -144,6 +144,20 @@ TEST(SeaSurface, ProbeReportsTheDiffractionCoefficient) {
   EXPECT_EQ(deep.probe(0, 50.0f, 50.0f).diffraction, 1.0f);
   // The reflected wave is part of the train: one field per scene train.
   EXPECT_EQ(s.trains().size(), scene.trains.size());
+  // Its parts, kept for the probe: in the lee only the diffracted wave; in front of the wall the
+  // incident and the reflected wave (alpha = 1), each A0 Ks, and a diffracted tail; without
+  // SeaParts::keep none.
+  const houle::WaveField field = houle::trace_wave_field(scene).value();
+  const houle::SeaSurface parts = houle::SeaSurface::build(scene, field, 0.5f, houle::SeaParts::keep).value();
+  const double a = 0.15 * houle::shoaling_coefficient(lw.kh);
+  const houle::TrainProbe lee = parts.probe(0, 25.0f, 75.0f), front = parts.probe(0, 25.0f, 30.0f);
+  EXPECT_EQ(lee.incident, 0.0f);
+  EXPECT_EQ(lee.reflected, 0.0f);
+  EXPECT_NEAR(lee.diffracted, lee.amplitude, 1e-6);
+  EXPECT_NEAR(front.incident, a, 1e-4);
+  EXPECT_NEAR(front.reflected, a, 1e-4);
+  EXPECT_LT(front.diffracted, 0.2 * a);
+  EXPECT_EQ(s.probe(0, 25.0f, 30.0f).reflected, 0.0f);
 }
 
 // Fournier-Reeves depth effects on a planar beach: the orbit's horizontal excursion (fold) and the

@@ -40,7 +40,13 @@ struct TrainField {
   /// K' on the grid: |B| against the incident wave without the structures (0 where no wave arrived),
   /// or empty: 1 everywhere (no pierhead diffracts this train). Only probe() reads it.
   std::vector<float> diffraction;
+  /// With SeaParts::keep, per node the amplitude (m) of each part of B before the breaking cap: the
+  /// incident rays, the pierheads' diffracted waves, the reflected waves. Only probe() reads them.
+  std::vector<float> incident, diffracted, reflected;
 };
+
+/// Whether SeaSurface::build keeps each train's parts for probe() (memory the frames never read).
+enum class SeaParts : bool { drop, keep };
 
 /// One train at a point: what `houle probe` reports.
 struct TrainProbe {
@@ -50,6 +56,9 @@ struct TrainProbe {
   float wavelength = 0.0f;       ///< m, local 2 pi / k
   float direction_deg = 0.0f;    ///< direction of travel, degrees counter-clockwise from +x
   float phase = 0.0f;            ///< rad, theta = phi - (omega t - phase) reduced to [-pi, pi]
+  /// The amplitude (m) of each part of the field, with SeaParts::keep (else 0): incident rays,
+  /// diffracted waves, reflected waves. They add as waves, not as amplitudes.
+  float incident = 0.0f, diffracted = 0.0f, reflected = 0.0f;
 };
 
 /// The diffraction SeaSurface::build did, summed over the trains: tests prove that a scene without a
@@ -62,7 +71,8 @@ struct DiffractionWork {
 class SeaSurface {
  public:
   /// `cell` is the resampling grid's spacing in m (> 0).
-  static Expected<SeaSurface> build(const Scene& scene, const WaveField& field, float cell = 0.5f);
+  static Expected<SeaSurface> build(const Scene& scene, const WaveField& field, float cell = 0.5f,
+                                    SeaParts parts = SeaParts::drop);
 
   SeaSurface(SeaSurface&&) noexcept = default;
   SeaSurface& operator=(SeaSurface&&) noexcept = default;
@@ -94,7 +104,7 @@ class SeaSurface {
   /// Fills train t's grid (its geometry set) from its rays and reflected waves, over the floor's
   /// depths at its nodes; returns max |B|.
   float resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const std::vector<float>& depths,
-                 const WaveRays& rays, const std::vector<const WaveRays*>& reflected);
+                 const WaveRays& rays, const std::vector<const WaveRays*>& reflected, SeaParts parts);
 
   std::vector<TrainField> trains_;
   std::vector<TrainGrid> grids_;  ///< per train, pointing into trains_' arrays
@@ -102,6 +112,7 @@ class SeaSurface {
   std::vector<float> amplitude0_;  ///< per train, its deep-water A0
   float height_bound_ = 0.0f;
   DiffractionWork diffraction_work_{};
+  SeaParts parts_ = SeaParts::drop;
 };
 
 }  // namespace houle
