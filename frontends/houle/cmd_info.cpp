@@ -130,7 +130,7 @@ the surface inside the domain, clear of its edges; found on a grid of 1 m cells,
     return 2;
   }
   const auto t1 = std::chrono::steady_clock::now();
-  Expected<SeaSurface> sea = SeaSurface::build(s, field.value(), q.sea_cell);
+  Expected<SeaSurface> sea = SeaSurface::build(s, field.value(), q.sea_cell, SeaParts::drop, threads);
   const double sea_ms = ms_since(t1);
   if (!sea) {
     std::fprintf(stderr, "houle info: %s\n", sea.error().message.c_str());

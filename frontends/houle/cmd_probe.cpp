@@ -165,7 +165,7 @@ the values the surface evaluates everywhere, with `where` beside them.)");
     std::fprintf(stderr, "houle probe: %s: %s\n", field.error().field.c_str(), field.error().message.c_str());
     return 2;
   }
-  Expected<SeaSurface> sea = SeaSurface::build(*scene, field.value(), sea_cell, SeaParts::keep);
+  Expected<SeaSurface> sea = SeaSurface::build(*scene, field.value(), sea_cell, SeaParts::keep, 2);
   if (!sea) {
     std::fprintf(stderr, "houle probe: %s\n", sea.error().message.c_str());
     return 1;

@@ -108,7 +108,7 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   const EffectPlan plan = plan_effects(s, quality);
   Expected<WaveField> waves = trace_wave_field(s, std::max(threads, 1u));
   if (!waves) return waves.error();
-  Expected<SeaSurface> sea = SeaSurface::build(s, waves.value(), quality.sea_cell);
+  Expected<SeaSurface> sea = SeaSurface::build(s, waves.value(), quality.sea_cell, SeaParts::drop, std::max(threads, 1u));
   if (!sea) return sea.error();
   Expected<SurfaceFrame> surface = SurfaceFrame::create(quality.surface);
   if (!surface) return Error{"quality.surface", surface.error().message};

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <numbers>
 #include <string>
 
 #include "houle/runtime/assert.hpp"
+#include "houle/runtime/thread_pool.hpp"
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
@@ -283,7 +285,8 @@ double from_half_line(double px, double py, double mx, double my, double dx, dou
 
 }  // namespace
 
-Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& field, float cell, SeaParts parts) {
+Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& field, float cell, SeaParts parts,
+                                       unsigned threads) {
   if (!(cell > 0.0f)) return Error{"cell", "a resampling cell > 0 m"};
   if (field.trains.size() != scene.trains.size()) return Error{"field", "one traced train per scene train"};
   const std::size_t count = field.trains.size();
@@ -299,7 +302,8 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
   const Domain& d = scene.domain;
   s.trains_.resize(count);
   s.grids_.resize(count);
-  std::vector<float> depths;
+  std::vector<std::size_t> traced;
+  std::vector<float> b_max(count, 0.0f);
   for (std::size_t t = 0; t < count; ++t) {
     const WaveRays& rays = field.trains[t];
     TrainField& f = s.trains_[t];
@@ -312,29 +316,53 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
     const double cy = 0.5 * (d.y_min + d.y_max) - rays.direction_y * 0.5 * (d.y_max - d.y_min);
     const double steepness = scene.trains[t].steepness;
     set_far_field(g, scene, rays, steepness, floor.depth(std::clamp(cx, d.x_min, d.x_max), std::clamp(cy, d.y_min, d.y_max)));
-    float b_max = g.far_amplitude;
-    if (!rays.analytic) {
-      const double nx = std::ceil((d.x_max - d.x_min) / cell) + 1, ny = std::ceil((d.y_max - d.y_min) / cell) + 1;
-      if (!(nx * ny < 2147483648.0)) return Error{"cell", "a resampling grid of fewer than 2^31 nodes over the domain"};
-      g.origin_x = float(d.x_min);
-      g.origin_y = float(d.y_min);
-      g.cell = cell;
-      g.nx = std::uint32_t(nx);
-      g.ny = std::uint32_t(ny);
+    b_max[t] = g.far_amplitude;
+    if (rays.analytic) continue;
+    const double nx = std::ceil((d.x_max - d.x_min) / cell) + 1, ny = std::ceil((d.y_max - d.y_min) / cell) + 1;
+    if (!(nx * ny < 2147483648.0)) return Error{"cell", "a resampling grid of fewer than 2^31 nodes over the domain"};
+    g.origin_x = float(d.x_min);
+    g.origin_y = float(d.y_min);
+    g.cell = cell;
+    g.nx = std::uint32_t(nx);
+    g.ny = std::uint32_t(ny);
+    traced.push_back(t);
+  }
+  // The floor under the grid, shared by every traced train; then the trains, each on its own (on
+  // up to `threads` threads: a train's grid depends on nothing but its own rays).
+  std::vector<float> depths;
+  if (!traced.empty()) {
+    const TrainGrid& g = s.grids_[traced.front()];
+    depths.resize(std::size_t(g.nx) * g.ny);
+    for (std::size_t n = 0; n < depths.size(); ++n) {
+      depths[n] = float(floor.depth(double(g.origin_x) + double(n % g.nx) * cell, double(g.origin_y) + double(n / g.nx) * cell));
+    }
+  }
+  std::vector<DiffractionWork> work(count);
+  const auto resample_trains = [&](std::size_t begin, std::size_t end, unsigned) noexcept {
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::size_t t = traced[i];
       std::vector<const WaveRays*> reflected;
       for (const ReflectedWave& r : field.reflections) {
         if (r.train == t) reflected.push_back(&r.rays);
       }
-      if (depths.empty()) {
-        // The floor under the grid, shared by every traced train.
-        depths.resize(std::size_t(g.nx) * g.ny);
-        for (std::size_t n = 0; n < depths.size(); ++n) {
-          depths[n] = float(floor.depth(double(g.origin_x) + double(n % g.nx) * cell, double(g.origin_y) + double(n / g.nx) * cell));
-        }
-      }
-      b_max = s.resample(t, scene, floor, depths, rays, reflected, parts);
+      b_max[t] = s.resample(t, scene, floor, depths, field.trains[t], reflected, parts, work[t]);
     }
-    s.height_bound_ += b_max;
+  };
+  std::unique_ptr<detail::ThreadPool> pool;
+  if (threads > 1 && traced.size() > 1) {
+    Expected<std::unique_ptr<detail::ThreadPool>> made = detail::ThreadPool::create(std::min(threads, unsigned(traced.size())));
+    if (!made) return made.error();
+    pool = std::move(made).value();
+  }
+  if (pool) {
+    pool->for_ranges(traced.size(), 1, resample_trains);
+  } else {
+    resample_trains(0, traced.size(), 0);
+  }
+  for (std::size_t t = 0; t < count; ++t) {
+    s.height_bound_ += b_max[t];
+    s.diffraction_work_.pierheads += work[t].pierheads;
+    s.diffraction_work_.evaluations += work[t].evaluations;
   }
   s.frame_.count = std::uint32_t(s.grids_.size());
   s.frame_.trains = s.grids_.data();
@@ -343,7 +371,8 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
 }
 
 float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const std::vector<float>& depths,
-                           const WaveRays& rays, const std::vector<const WaveRays*>& reflected, SeaParts parts) {
+                           const WaveRays& rays, const std::vector<const WaveRays*>& reflected, SeaParts parts,
+                           DiffractionWork& work) {
   TrainField& f = trains_[t];
   TrainGrid& g = grids_[t];
   const GridGeometry geo{g.origin_x, g.origin_y, g.cell, g.nx, g.ny};
@@ -381,7 +410,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       pierheads.push_back(p);
     }
   }
-  diffraction_work_.pierheads += pierheads.size();
+  work.pierheads += pierheads.size();
 
   for (std::vector<float>* v : {&f.phi, &f.b_re, &f.b_im, &f.kx, &f.ky, &f.fold, &f.lean}) v->assign(nodes, 0.0f);
   f.diffraction.assign(pierheads.empty() ? 0 : nodes, 0.0f);
@@ -518,7 +547,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       }
       diffracted_part += v.amplitude * d * std::polar(1.0, p.phase - psi);
       arrived = true;
-      ++diffraction_work_.evaluations;
+      ++work.evaluations;
     }
     // K' is against the incident wave without the structures: where its rays did not reach, the
     // nearest pierhead's incident amplitude shoaled to here.

@@ -205,4 +205,27 @@ TEST(SeaSurface, ShoalingFlattensOrbitsAndLeansCrestsWithoutFolding) {
   }
 }
 
+// Trains are resampled on several threads: the same bits on one or two (the built-in coast: three
+// traced trains, a jetty, reflected waves).
+TEST(SeaSurface, TheSameOnOneOrTwoThreads) {
+  const houle::Scene scene = houle::builtin_coast();
+  const houle::WaveField field = houle::trace_wave_field(scene, 2).value();
+  const houle::SeaSurface one = houle::SeaSurface::build(scene, field, 1.0f, houle::SeaParts::drop, 1).value();
+  const houle::SeaSurface two = houle::SeaSurface::build(scene, field, 1.0f, houle::SeaParts::drop, 2).value();
+  ASSERT_EQ(one.trains().size(), two.trains().size());
+  for (std::size_t t = 0; t < one.trains().size(); ++t) {
+    const houle::TrainField &a = one.trains()[t], &b = two.trains()[t];
+    EXPECT_EQ(a.phi, b.phi) << t;
+    EXPECT_EQ(a.b_re, b.b_re) << t;
+    EXPECT_EQ(a.b_im, b.b_im) << t;
+    EXPECT_EQ(a.kx, b.kx) << t;
+    EXPECT_EQ(a.ky, b.ky) << t;
+    EXPECT_EQ(a.fold, b.fold) << t;
+    EXPECT_EQ(a.lean, b.lean) << t;
+  }
+  EXPECT_EQ(one.height_bound(), two.height_bound());
+  EXPECT_EQ(one.diffraction_work().evaluations, two.diffraction_work().evaluations);
+  EXPECT_GT(one.diffraction_work().evaluations, 0u);
+}
+
 }  // namespace

@@ -70,9 +70,10 @@ struct DiffractionWork {
 
 class SeaSurface {
  public:
-  /// `cell` is the resampling grid's spacing in m (> 0).
+  /// `cell` is the resampling grid's spacing in m (> 0); traced trains are resampled on up to
+  /// `threads` threads (the result does not depend on it).
   static Expected<SeaSurface> build(const Scene& scene, const WaveField& field, float cell = 0.5f,
-                                    SeaParts parts = SeaParts::drop);
+                                    SeaParts parts = SeaParts::drop, unsigned threads = 1);
 
   SeaSurface(SeaSurface&&) noexcept = default;
   SeaSurface& operator=(SeaSurface&&) noexcept = default;
@@ -102,9 +103,10 @@ class SeaSurface {
   // their buffers), copying would not.
   SeaSurface(const SeaSurface&) = delete;
   /// Fills train t's grid (its geometry set) from its rays and reflected waves, over the floor's
-  /// depths at its nodes; returns max |B|.
+  /// depths at its nodes, adding its diffraction to `work`; returns max |B|. Touches train t only.
   float resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const std::vector<float>& depths,
-                 const WaveRays& rays, const std::vector<const WaveRays*>& reflected, SeaParts parts);
+                 const WaveRays& rays, const std::vector<const WaveRays*>& reflected, SeaParts parts,
+                 DiffractionWork& work);
 
   std::vector<TrainField> trains_;
   std::vector<TrainGrid> grids_;  ///< per train, pointing into trains_' arrays
