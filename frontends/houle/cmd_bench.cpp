@@ -30,7 +30,8 @@ int cmd_bench(std::span<char* const> argv) {
 
 Renders N frames (default 100) of SCENE (the built-in coast without one) after N warm-up frames
 (default 5), without writing them, and reports the frame time's median, p90, p99 and maximum, with
-the per-stage split (surface retessellation, noise, march, intersect, shade) and the scene build time.
+the per-stage split (surface retessellation, noise, march, intersect, shade), the scene build time and
+the share of primary rays whose object and floor hit was kept from the frame before (a still camera).
 --threads N: render threads (default: the machine's hardware threads).)");
     return 0;
   }
@@ -65,6 +66,7 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
   }
   Framebuffer fb(width, height);
   std::vector<double> total, surface, noise, march, intersect, shade;
+  std::uint64_t samples = 0, reused = 0;
   for (long n = 0; n < warmup + frames; ++n) {
     const auto t0 = std::chrono::steady_clock::now();
     anim->render(double(n) / 30.0, fb);
@@ -77,16 +79,20 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
     march.push_back(t.render.march_ms);
     intersect.push_back(t.render.intersect_ms);
     shade.push_back(t.render.shade_ms);
+    const RenderCounters& c = anim->renderer().last_counters();
+    samples += c.sea + c.object + c.sky;
+    reused += c.reused;
   }
   const std::pair<const char*, Distribution> rows[] = {
       {"frame", distribution(total)},   {"surface", distribution(surface)},     {"noise", distribution(noise)},
       {"march", distribution(march)},   {"intersect", distribution(intersect)}, {"shade", distribution(shade)}};
   const char* isa = isa_name(active_isa()).data();
+  const double share = samples > 0 ? double(reused) / double(samples) : 0.0;
   if (json) {
     std::printf("{\"scene\": \"%s\", \"size\": [%d, %d], \"quality\": \"%s\", \"threads\": %u, \"isa\": \"%s\", \"frames\": %ld, "
-                "\"build_ms\": %.3f, \"stages_ms\": {",
+                "\"build_ms\": %.3f, \"primary_reused\": %.4f, \"stages_ms\": {",
                 run->name.c_str(), width, height,
-                quality_name(quality).data(), threads, isa, frames, anim->build_ms());
+                quality_name(quality).data(), threads, isa, frames, anim->build_ms(), share);
     for (std::size_t i = 0; i < std::size(rows); ++i) {
       const Distribution& d = rows[i].second;
       std::printf("%s\"%s\": {\"median\": %.3f, \"p90\": %.3f, \"p99\": %.3f, \"max\": %.3f}", i ? ", " : "", rows[i].first,
@@ -99,6 +105,7 @@ the per-stage split (surface retessellation, noise, march, intersect, shade) and
                 quality_name(quality).data(), threads, isa, frames, warmup, anim->build_ms());
     std::printf("%-10s %9s %9s %9s %9s   (ms)\n", "stage", "median", "p90", "p99", "max");
     for (const auto& [name, d] : rows) std::printf("%-10s %9.2f %9.2f %9.2f %9.2f\n", name, d.median, d.p90, d.p99, d.max);
+    std::printf("primary object and floor hits kept from the frame before: %.1f %%\n", 100.0 * share);
   }
   return 0;
 }

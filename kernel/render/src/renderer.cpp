@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -19,6 +20,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Vec3 = std::array<float, 3>;
 using detail::HitKind;
+using detail::PrimaryMemo;
 using detail::SceneRay;
 using detail::SurfaceHit;
 
@@ -41,6 +43,9 @@ constexpr float sky_water_transmission = 0.934f;
 // The exposure never follows a sun near or below the horizon further down than this (klx): the sky
 // would otherwise be blown up without limit.
 constexpr double min_reference_klx = 10.0;
+// One PrimaryMemo per pixel and sample, up to Renderer::max_kept_bytes: a 1920 x 1080 image at one
+// sample keeps 127 MiB; at 8 samples (film) it would be 1 GiB, which a film render does without.
+static_assert(sizeof(PrimaryMemo) == Renderer::kept_hit_bytes);
 
 LinearRgb operator*(LinearRgb a, float s) { return {a.r * s, a.g * s, a.b * s}; }
 LinearRgb operator*(LinearRgb a, LinearRgb b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
@@ -144,6 +149,11 @@ struct Renderer::Impl {
 
   std::unique_ptr<detail::ThreadPool> pool;
   std::vector<std::unique_ptr<Scratch>> scratch;
+  // The primary rays' object and floor hits, row by row (row r, sample k: entries (r samples + k) width
+  // onwards), and the camera they were found for: a still camera finds them there the next frame.
+  std::vector<PrimaryMemo> memo;
+  Camera memo_camera;
+  bool memo_refill = true;  // this frame: the camera moved
   FrameTimes times;
   RenderCounters counters;
 
@@ -361,9 +371,17 @@ void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
     const auto t0 = Clock::now();
     camera_row_rays(camera, row, 0, w, offsets[k].x, offsets[k].y, a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]);
     // t_max for the marcher: the nearest object or land in front of the sea.
+    PrimaryMemo* const memo_row = memo.empty() ? nullptr : memo.data() + (std::size_t(row) * samples + k) * w;
     for (std::size_t i = 0; i < w; ++i) {
       const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
-      s.object[i] = objects.intersect(make_ray(camera.position, d, 0.0f, d), 0.0, double(max_distance), primary_floor_lo);
+      const SceneRay ray = make_ray(camera.position, d, 0.0f, d);
+      if (memo_row != nullptr) {
+        bool reused = false;
+        s.object[i] = objects.intersect_primary(ray, max_distance, primary_floor_lo, memo_row[i], memo_refill, reused);
+        s.counters.reused += reused;
+      } else {
+        s.object[i] = objects.intersect(ray, 0.0, double(max_distance), primary_floor_lo);
+      }
       a[Scratch::t_max][i] = s.object[i].kind != HitKind::none ? s.object[i].t : max_distance;
     }
     const auto t1 = Clock::now();
@@ -460,6 +478,8 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
   if (!pool) return pool.error();
   r.pool = std::move(pool.value());
   for (unsigned w = 0; w < r.pool->size(); ++w) r.scratch.push_back(std::make_unique<Scratch>(width));
+  const std::size_t memo_entries = std::size_t(width) * height * std::size_t(r.samples);
+  if (memo_entries <= max_kept_bytes / kept_hit_bytes) r.memo.resize(memo_entries);
   return Renderer(std::move(impl));
 }
 
@@ -504,6 +524,10 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   r.noise = noise != nullptr && noise->octaves > 0 ? noise : nullptr;
   r.noise_params = r.noise == nullptr ? nullptr : noise_params != nullptr ? noise_params : &noise->params;
   r.camera = camera;
+  // Every field of the camera, bit for bit (no padding: sizeof is the sum of the fields).
+  static_assert(sizeof(Camera) == 16 * 4);
+  r.memo_refill = std::memcmp(&r.memo_camera, &camera, sizeof(Camera)) != 0;
+  r.memo_camera = camera;
   r.out = &out;
   r.view = view;
   r.march = {};
@@ -536,6 +560,7 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
     r.counters.object += s->counters.object;
     r.counters.sky += s->counters.sky;
     r.counters.nonfinite += s->counters.nonfinite;
+    r.counters.reused += s->counters.reused;
   }
   const double n = double(r.scratch.size()) * 1e6;
   r.times.march_ms = march_ns / n;

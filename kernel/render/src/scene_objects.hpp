@@ -7,6 +7,9 @@
 //
 // The arithmetic is double: rays here are few per pixel, and the grid walk and quadratics are then
 // robust for the long, grazing rays a low camera sends over the beach.
+//
+// Primary rays of a still camera keep what they met from one frame to the next (PrimaryMemo,
+// docs/rendering.md 2.4): only the sea's slab moves, and with it where the floor walk stops.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -33,6 +36,19 @@ struct SurfaceHit {
   std::array<float, 3> normal{0.0f, 0.0f, 1.0f};  ///< unit, outward (floor: up)
 };
 
+/// What a primary ray met, kept from one frame to the next by SceneObjects::intersect_primary. Of
+/// what the nearest hit depends on, only floor_z_lo changes from frame to frame (the sea's slab moves
+/// with the waves), and it moves only the end t1 of the floor walk: the memo keeps, for walks from the
+/// same first level, a range of t1 that meets no floor and one that meets it at `floor_t`.
+struct PrimaryMemo {
+  double clear_upto = -std::numeric_limits<double>::infinity();  ///< no floor hit for t1 <= clear_upto
+  double hit_from = std::numeric_limits<double>::infinity();     ///< the floor hit below for t1 >= hit_from
+  SurfaceHit objects;  ///< boxes and spheres, nearest in [0, t_max)
+  float floor_t = std::numeric_limits<float>::infinity();
+  std::array<float, 3> floor_normal{0.0f, 0.0f, 1.0f};
+  std::int8_t level = -1;  ///< the walks' first level; -1: no walk known
+};
+
 class SceneObjects {
  public:
   /// Blocks of each mipmap level per side of a block of the next: level k's blocks are
@@ -47,6 +63,12 @@ class SceneObjects {
   /// above floor_z_lo (m): a primary ray below the sea's slab has crossed the sea already.
   SurfaceHit intersect(const SceneRay& ray, double t_min, double t_max,
                        double floor_z_lo = -std::numeric_limits<double>::infinity()) const noexcept;
+  /// intersect(ray, 0, t_max, floor_z_lo), bit for bit, from what `memo` knows when it covers
+  /// floor_z_lo, else with a walk that `memo` then remembers (`reused` tells which). `refill`
+  /// starts `memo` afresh; without it, `memo` must hold earlier calls' for the same ray and t_max (a
+  /// still camera: most frames then skip the walks).
+  SurfaceHit intersect_primary(const SceneRay& ray, float t_max, double floor_z_lo, PrimaryMemo& memo, bool refill,
+                               bool& reused) const noexcept;
   /// Whether anything lies on the ray with t in [t_min, t_max) (shadow rays); the floor only when
   /// `floor` is set.
   bool occluded(const SceneRay& ray, double t_min, double t_max, bool floor = true) const noexcept;
@@ -73,6 +95,27 @@ class SceneObjects {
   bool hit_box(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
   bool hit_sphere(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
   void build_bvh();
+  /// Where a floor query walks: t0 .. t1 along the ray from the first level `level`; `walk` false
+  /// when the ray cannot meet the floor within [t_min, t_max) above z_lo.
+  struct FloorSpan {
+    double t0, t1;
+    int level;
+    bool walk;
+  };
+  FloorSpan floor_span(const SceneRay& ray, double t_min, double t_max, double z_lo) const noexcept;
+  /// The first level for a walk from t0 to t1 along the ray.
+  int first_level(const SceneRay& ray, double t0, double t1) const noexcept;
+  /// The walk over `span`: the nearest floor hit `t` before t_max (t_max when none) with its normal
+  /// when `normal` is not null, the start and end of the segment of the cell it was found in, and
+  /// whether every block on the way to that cell passes its skip test with the cell's end as its own.
+  struct FloorWalk {
+    double t, cell_start, cell_end;
+    bool blocks_pass;
+  };
+  FloorWalk walk_floor(const SceneRay& ray, const FloorSpan& span, double t_max, std::array<float, 3>* normal) const noexcept;
+  /// How far a walk from `span`'s start and first level can go: to where the ray leaves the floor's
+  /// height range or t_max, or the end beyond which the first level would change.
+  double farthest_end(const SceneRay& ray, const FloorSpan& span, double t_max) const noexcept;
   /// Nearest floor hit in [t_min, t_max) where the ray is at or above z_lo (t_max when none); writes
   /// the normal on a hit when `normal` is not null.
   double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo,
