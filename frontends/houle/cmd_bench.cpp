@@ -64,6 +64,7 @@ the share of primary rays whose object and floor hit was kept from the frame bef
                  anim.error().message.c_str());
     return 2;
   }
+  warn_if_truncated("bench", run->name, anim.value().waves());
   Framebuffer fb(width, height);
   std::vector<double> total, surface, noise, march, intersect, shade;
   std::uint64_t samples = 0, reused = 0;

@@ -109,7 +109,8 @@ machine's hardware threads). --json prints the same facts as one JSON object.
 Warns (a `warning:` line; "warnings" in JSON) when the scene has an island (land rising through
 the surface inside the domain, clear of its edges; found on a grid of 1 m cells, coarser beyond
 512 m) or a wall end in the water closer to the domain's edge than a wavelength of a traced train
-(at the end's depth): waves pass the gap between it and the edge, which may not be what was meant.)");
+(at the end's depth): waves pass the gap between it and the edge, which may not be what was meant;
+and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by default that is an error).)");
     return 0;
   }
   const bool json = args.flag("--json");
@@ -120,14 +121,19 @@ the surface inside the domain, clear of its edges; found on a grid of 1 m cells,
   const unsigned threads = run->threads;
   const Quality q = quality_preset(quality);
   const EffectPlan plan = plan_effects(s, q);
-  const std::vector<std::string> warnings = scene_warnings(s);
+  std::vector<std::string> warnings = scene_warnings(s);
 
   const auto t0 = std::chrono::steady_clock::now();
   Expected<WaveField> field = trace_wave_field(s, threads);
   const double trace_ms = ms_since(t0);
   if (!field) {
-    std::fprintf(stderr, "houle info: %s: %s\n", field.error().field.c_str(), field.error().message.c_str());
+    std::fprintf(stderr, "houle info: %s: %s: %s\n", run->name.c_str(), field.error().field.c_str(),
+                 field.error().message.c_str());
     return 2;
+  }
+  if (field.value().stats.truncated) {
+    warnings.push_back("the wave rays reached a cap (dwt.max_rays, dwt.max_samples or the path length) and stopped: "
+                       "the field beyond them is empty (dwt.on_cap = \"warn\")");
   }
   const auto t1 = std::chrono::steady_clock::now();
   Expected<SeaSurface> sea = SeaSurface::build(s, field.value(), q.sea_cell, SeaParts::drop, threads);

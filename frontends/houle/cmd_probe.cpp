@@ -162,9 +162,11 @@ the values the surface evaluates everywhere, with `where` beside them.)");
   }
   Expected<WaveField> field = trace_wave_field(*scene, 2);
   if (!field) {
-    std::fprintf(stderr, "houle probe: %s: %s\n", field.error().field.c_str(), field.error().message.c_str());
+    std::fprintf(stderr, "houle probe: %s: %s: %s\n", scene_name(positionals).c_str(), field.error().field.c_str(),
+                 field.error().message.c_str());
     return 2;
   }
+  warn_if_truncated("probe", scene_name(positionals), field.value());
   Expected<SeaSurface> sea = SeaSurface::build(*scene, field.value(), sea_cell, SeaParts::keep, 2);
   if (!sea) {
     std::fprintf(stderr, "houle probe: %s\n", sea.error().message.c_str());

@@ -129,6 +129,7 @@ int cmd_render(std::span<char* const> argv) {
                  anim.error().message.c_str());
     return 2;
   }
+  warn_if_truncated("render", scene_name(positionals), anim.value().waves());
   Expected<std::unique_ptr<FrameWriter>> writer =
       o.raw ? make_raw_writer(*o.raw, o.format.value_or(PixelFormat::rgb24), o.width, o.height, o.skip_existing)
             : make_image_writer(o.out, o.width, o.height, o.format == PixelFormat::rgbf32);

@@ -41,4 +41,12 @@ std::string scene_name(const std::vector<std::string>& positionals) {
   return positionals.empty() ? "built-in coast" : positionals[0];
 }
 
+void warn_if_truncated(const char* command, const std::string& scene, const WaveField& field) {
+  if (!field.stats.truncated) return;
+  std::fprintf(stderr,
+               "houle %s: %s: warning: the wave rays reached a cap (dwt.max_rays, dwt.max_samples or the path "
+               "length) and stopped: the field beyond them is empty (dwt.on_cap = \"warn\")\n",
+               command, scene.c_str());
+}
+
 }  // namespace houle::cli

@@ -26,4 +26,8 @@ std::optional<SceneRun> take_scene_run(Args& args, const char* command);
 /// What messages call that scene: its file, or "built-in coast".
 std::string scene_name(const std::vector<std::string>& positionals);
 
+/// With dwt.on_cap = "warn" a trace may stop at a cap and leave part of the field empty: every command
+/// that traced says so on stderr ("houle <command>: <scene>: warning: ...").
+void warn_if_truncated(const char* command, const std::string& scene, const WaveField& field);
+
 }  // namespace houle::cli

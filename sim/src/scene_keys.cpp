@@ -258,6 +258,10 @@ constexpr Choice diffraction_models[] = {
     {"paper", int(DiffractionModel::paper), "the paper's eqs. 1–5 as printed"},
     {"paper-corrected", int(DiffractionModel::paper_corrected), "the same with the two typos of docs/physics.md 4.3 fixed"},
 };
+constexpr Choice cap_policies[] = {
+    {"error", int(OnCap::error), "the trace fails: the field beyond the cap would be missing"},
+    {"warn", int(OnCap::warn), "the truncated field is kept and every command warns"},
+};
 constexpr Key<DwtSettings> dwt_keys[] = {
     {"initial_rays", &DwtSettings::initial_rays, "", any,
      "rays per train across the front, 0 or at least 2; 0: front width / insertion distance"},
@@ -283,6 +287,8 @@ constexpr Key<DwtSettings> dwt_keys[] = {
      "per-train cap on rays (memory and time), at least `initial_rays`"},
     {"max_samples", &DwtSettings::max_samples, "", {64.0, double(scene_limits::max_samples)},
      "per-train cap on ray samples (memory and time)"},
+    {"on_cap", &DwtSettings::on_cap, "", any, "what a trace that reaches a cap (rays, samples, path length) does",
+     cap_policies},
 };
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <memory>
 #include <numbers>
+#include <string>
 #include <utility>
 
 #include "houle/runtime/thread_pool.hpp"
@@ -76,6 +77,24 @@ DwtStats& DwtStats::operator+=(const DwtStats& o) noexcept {
   truncated = truncated || o.truncated;
   return *this;
 }
+
+namespace {
+
+// dwt.on_cap = "error": a trace that reached a cap stopped there, and the field beyond would be
+// missing (zero) without anything in a render saying so.
+Expected<void> untruncated(std::size_t train, const DwtStats& st, const DwtSettings& dwt) {
+  if (!st.truncated) return {};
+  const std::string which =
+      st.rays >= dwt.max_rays || st.insertions_refused > 0
+          ? "dwt.max_rays (" + std::to_string(dwt.max_rays) + " rays)"
+          : st.samples >= dwt.max_samples ? "dwt.max_samples (" + std::to_string(dwt.max_samples) + " samples)"
+                                          : "the path length a ray may travel";
+  return Error{"dwt.on_cap", "train " + std::to_string(train) + "'s wave rays reached " + which +
+                                 " and stopped, leaving the field beyond them empty: expected a larger cap, a "
+                                 "larger dwt.step or dwt.insertion_distance, or on_cap = \"warn\" to accept it"};
+}
+
+}  // namespace
 
 bool scene_has_pierheads(const Scene& scene) noexcept {
   if (!scene.dwt.diffraction || scene.walls.empty()) return false;
@@ -195,6 +214,12 @@ Expected<WaveField> trace_wave_field(const Scene& scene, const DwtSettings& sett
       incident[i] = reflects ? tracer.run_reflecting(stats[i], reflected[i], reflected_stats[i]) : tracer.run(stats[i]);
     }
   });
+  if (s.dwt.on_cap == OnCap::error) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (Expected<void> whole = untruncated(i, stats[i], s.dwt); !whole) return whole.error();
+      if (Expected<void> whole = untruncated(i, reflected_stats[i], s.dwt); !whole) return whole.error();
+    }
+  }
   WaveField field;
   for (std::size_t i = 0; i < n; ++i) {
     field.trains.push_back(std::move(incident[i]));

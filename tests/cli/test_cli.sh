@@ -128,6 +128,31 @@ expect limit-trains 2 'many-trains.toml:1:1: error: trains: at most 16 entries, 
 f=$(scene huge-caps '[dwt]
 max_samples = 4000000000')
 expect limit-samples 2 'huge-caps.toml:2:15: error: dwt.max_samples: a count in \[64, 16777216\]' "$houle" validate "$f"
+# A trace that reaches a cap stops there: an error by default (the field beyond would be empty and a
+# render would not say so), every command's warning with dwt.on_cap = "warn".
+capped='[domain]
+x_max = 100.0
+y_max = 100.0
+[floor.base]
+kind = "planar_beach"
+depth = 8.0
+slope = 0.05
+shoreline = [50.0, 110.0]
+[[trains]]
+period = 4.0
+amplitude = 0.2
+[dwt]
+max_samples = 2000'
+f=$(scene capped "$capped")
+expect cap-error-probe 2 "capped.toml: dwt.on_cap: train 0's wave rays reached dwt.max_samples \(2000 samples\)" "$houle" probe "$f" --at 50,80
+expect cap-error-render 2 "capped.toml: dwt.on_cap: train 0's wave rays reached dwt.max_samples" "$houle" render "$f" --frames 0:0 --size 32x18 --out "$work/capped/%04d.png"
+f=$(scene capped-warn "$capped
+on_cap = \"warn\"")
+for cmd in "probe --at 50,80" "render --frames 0:0 --size 32x18 --out $work/capped/%04d.png" "bench --frames 1 --size 32x18"; do
+  # shellcheck disable=SC2086 # the command's words
+  expect "cap-warn-${cmd%% *}" 0 "houle ${cmd%% *}: .*capped-warn.toml: warning: the wave rays reached a cap" "$houle" $cmd "$f"
+done
+expect cap-warn-info 0 '^warning: the wave rays reached a cap' "$houle" info "$f"
 # Valid, but 16 traced trains over 4 km at film quality would need tens of GiB.
 f=$(scene huge-build "[domain]
 x_max = 4000.0

@@ -619,6 +619,28 @@ TEST(WaveTracing, CapsBoundTheOutput) {
   EXPECT_TRUE(all_finite(w));
 }
 
+// trace_wave_field refuses a truncated field by default and says which cap; dwt.on_cap = warn keeps it
+// (truncated in the stats, which every command reports).
+TEST(WaveTracing, ACapIsAnErrorUnlessTheSceneAllowsIt) {
+  Scene s = shoal_scene(3.0);
+  ASSERT_TRUE(houle::trace_wave_field(s, 1).ok());
+  s.dwt.max_samples = 5000;
+  const auto refused = houle::trace_wave_field(s, 1);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().field, "dwt.on_cap");
+  EXPECT_NE(refused.error().message.find("dwt.max_samples (5000 samples)"), std::string::npos) << refused.error().message;
+  s.dwt.max_samples = houle::DwtSettings{}.max_samples;
+  s.dwt.max_rays = 200;
+  const auto rays = houle::trace_wave_field(s, 1);
+  ASSERT_FALSE(rays.ok());
+  EXPECT_NE(rays.error().message.find("dwt.max_rays (200 rays)"), std::string::npos) << rays.error().message;
+  s.dwt.on_cap = houle::OnCap::warn;
+  const auto kept = houle::trace_wave_field(s, 1);
+  ASSERT_TRUE(kept.ok());
+  EXPECT_TRUE(kept->stats.truncated);
+  EXPECT_GT(kept->stats.insertions_refused, 0u);
+}
+
 TEST(WaveTracing, RejectsInvalidInput) {
   Scene s = houle::paper_fig4();
   EXPECT_FALSE(houle::trace_train(s, 1, s.dwt).ok());

@@ -172,6 +172,10 @@ struct Water {
 // ---- Dynamic Wave Tracing settings ---------------------------------------------------------------
 
 /// Accuracy knobs of the ray tracer (wave_rays.hpp). Defaults are the paper's (Fig. 4).
+/// What a trace that reaches one of its caps (dwt.max_rays, dwt.max_samples, the path length) does:
+/// the sweep stops there and the field beyond is missing, so by default that is an error.
+enum class OnCap : std::uint8_t { error, warn };
+
 struct DwtSettings {
   /// Initial rays per train across the front; 0: enough to space them below the insertion distance.
   std::uint32_t initial_rays = 0;
@@ -202,6 +206,7 @@ struct DwtSettings {
   /// Caps that bound memory and time (dwt_bound); beyond them insertion stops and the stats say so.
   std::uint32_t max_rays = 1u << 15;      ///< per train
   std::uint32_t max_samples = 1u << 22;   ///< per train
+  OnCap on_cap = OnCap::error;            ///< warn: the truncated field is kept and every command says so
 };
 
 // ---- The scene -----------------------------------------------------------------------------------

@@ -67,7 +67,7 @@ template <class S>
 using Member = std::variant<double S::*, std::optional<double> S::*, int S::*, std::uint32_t S::*, bool S::*,
                             Point2 S::*, std::optional<Point2> S::*, Point3 S::*, LinearRgb S::*,
                             std::vector<Point2> S::*, std::string S::*, FloorKind S::*, HeightMapMode S::*,
-                            DiffractionModel S::*>;
+                            DiffractionModel S::*, OnCap S::*>;
 
 template <class S>
 struct Key {
