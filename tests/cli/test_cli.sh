@@ -226,10 +226,11 @@ if [ "$out" -eq 20000 ] && grep -q 'rc=0' "$work/rc.txt" && grep -q 'output clos
 else
   fail=$((fail + 1)); echo "FAIL closed pipe: $(cat "$work/rc.txt") $(cat "$work/err.txt")"
 fi
-# SIGTERM and SIGHUP stop a render as Ctrl-C does: after the current frame, "interrupted after N
-# complete frames", exit 128 + the signal. Killed at random times (during the build too, before the
-# handler is in place), a PNG sequence or a raw stream never keeps a temporary file or a partial frame.
-kill_started=0 kill_fail=0
+# SIGINT, SIGTERM and SIGHUP stop a render alike: after the current frame, "interrupted after N
+# complete frames", exit 128 + the signal. Killed 100 times at random times (during the build too,
+# before the handler is in place), a PNG sequence or a raw stream never keeps a temporary file or a
+# partial frame.
+kills=100 kill_started=0 kill_fail=0
 quick=$(scene quick '[domain]
 x_max = 100.0
 y_max = 100.0
@@ -237,12 +238,17 @@ y_max = 100.0
 depth = 300.0
 [[trains]]
 period = 5.0')
-for i in $(seq 20); do
-  d="$work/kill$i" sig=TERM code=143
-  [ $((i % 2)) -eq 0 ] && sig=HUP code=129
+for i in $(seq $kills); do
+  d="$work/kill$i"
+  case $((i % 3)) in
+    0) sig=INT code=130 ;;
+    1) sig=TERM code=143 ;;
+    2) sig=HUP code=129 ;;
+  esac
   mkdir "$d"
-  if [ "$i" -le 10 ]; then out=(--out "$d/%04d.png"); else out=(--raw "$d/frames.rgb"); fi
-  "$houle" render "$quick" --frames 100000 --size 64x36 --quality draft --quiet "${out[@]}" 2>"$d/err" &
+  if [ $((i % 2)) -eq 0 ]; then out=(--out "$d/%04d.png"); else out=(--raw "$d/frames.rgb"); fi
+  # env --default-signal: a background job of a script starts with SIGINT ignored.
+  env --default-signal=INT "$houle" render "$quick" --frames 100000 --size 64x36 --quality draft --quiet "${out[@]}" 2>"$d/err" &
   pid=$!
   if [ $((i % 4)) -lt 2 ]; then  # half the kills once frames are coming out (loading OpenImageIO takes a while)
     for _ in $(seq 100); do [ -n "$(find "$d" -name '*.png' -o -name frames.rgb -size +0)" ] && break; sleep 0.05; done
@@ -268,7 +274,8 @@ done
 python3 "$src/tests/cli/check_png.py" 64 36 $(find "$work"/kill* -name '*.png') >"$work/check.txt" 2>&1 ||
   { kill_fail=$((kill_fail + 1)); echo "FAIL frames written before a signal: $(cat "$work/check.txt")"; }
 # Half the kills at least land in the frame loop, else the handler went untested.
-[ "$kill_started" -ge 10 ] || { kill_fail=$((kill_fail + 1)); echo "FAIL only $kill_started of 20 kills came after the first frame"; }
+[ "$kill_started" -ge $((kills / 2)) ] ||
+  { kill_fail=$((kill_fail + 1)); echo "FAIL only $kill_started of $kills kills came after the first frame"; }
 if [ "$kill_fail" -eq 0 ]; then pass=$((pass + 1)); else fail=$((fail + 1)); fi
 
 # houle info: the effect plan and the build's counts, as text and as JSON that parses.
