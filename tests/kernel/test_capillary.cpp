@@ -35,7 +35,7 @@ struct Samples {
   }
 };
 
-CapillaryFrame frame_of(const CapillaryParams& p, double t, double ox = 0.0, double oy = 0.0) {
+CapillaryFrame noise_frame_of(const CapillaryParams& p, double t, double ox = 0.0, double oy = 0.0) {
   auto f = houle::make_capillary_frame(p, t, ox, oy);
   EXPECT_TRUE(f.ok()) << (f.ok() ? "" : f.error().field + ": " + f.error().message);
   return f.ok() ? f.value() : CapillaryFrame{};
@@ -58,11 +58,11 @@ void catmull_rom(double t, double w[4], double d[4]) {
   d[2] = (-9 * t * t + 8 * t + 1) / 2;
   d[3] = (3 * t * t - 2 * t) / 2;
 }
-struct Ref {
+struct NoiseRef {
   double h = 0, gx = 0, gy = 0;
 };
-Ref reference(const CapillaryParams& p, double level, double X, double Y, double t) {
-  Ref r;
+NoiseRef reference(const CapillaryParams& p, double level, double X, double Y, double t) {
+  NoiseRef r;
   if (!(level > 0)) level = 0;
   for (int i = 0; i < p.max_octaves; ++i) {
     const double weight = smoothstep01(level - i);
@@ -111,7 +111,7 @@ TEST(Capillary, EveryIsaMatchesScalarBitForBitIncludingTailsAndMixedLevels) {
     for (int trial = 0; trial < 12; ++trial) {
       p.max_octaves = 3 + trial % 6;
       p.lacunarity = trial % 3 == 2 ? 1.7f : 2.0f;
-      const CapillaryFrame f = frame_of(p, 0.731 * trial, 13.0 * trial, -4.0 * trial);
+      const CapillaryFrame f = noise_frame_of(p, 0.731 * trial, 13.0 * trial, -4.0 * trial);
       for (std::size_t n : sizes) {
         Samples ref(n), got(n);
         for (std::size_t i = 0; i < n; ++i) {
@@ -146,7 +146,7 @@ TEST(Capillary, MatchesDoubleReference) {
   // 1e-4 of the amplitude for h, 2e-3 of the slope scale a / lambda_1 for the gradient.
   CapillaryParams p;
   const double t = 3.7, slope_scale = p.amplitude / p.base_wavelength;
-  const CapillaryFrame f = frame_of(p, t);
+  const CapillaryFrame f = noise_frame_of(p, t);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> coord(-20.0f, 20.0f), lvl(0.0f, 6.0f);
   Samples s(4000);
@@ -154,7 +154,7 @@ TEST(Capillary, MatchesDoubleReference) {
   s.eval(f);
   double eh = 0, eg = 0;
   for (std::size_t i = 0; i < s.size(); ++i) {
-    const Ref r = reference(p, s.level[i], s.x[i], s.y[i], t);
+    const NoiseRef r = reference(p, s.level[i], s.x[i], s.y[i], t);
     eh = std::max(eh, std::fabs(s.h[i] - r.h));
     eg = std::max({eg, std::fabs(s.gx[i] - r.gx), std::fabs(s.gy[i] - r.gy)});
   }
@@ -173,12 +173,12 @@ TEST(Capillary, LargeCoordinatesAndTimesStayAccurate) {
   double eh = 0, eg = 0;
   for (double t : {1e6, 1e7 + 0.25, 123456789.5}) {
     const double ox = 1e5, oy = -7.3e4;
-    const CapillaryFrame f = frame_of(p, t, ox, oy);
+    const CapillaryFrame f = noise_frame_of(p, t, ox, oy);
     Samples s(500);
     for (std::size_t i = 0; i < s.size(); ++i) s.x[i] = coord(rng), s.y[i] = coord(rng), s.level[i] = 6.0f;
     s.eval(f);
     for (std::size_t i = 0; i < s.size(); ++i) {
-      const Ref r = reference(p, 6.0, ox + s.x[i], oy + s.y[i], t);
+      const NoiseRef r = reference(p, 6.0, ox + s.x[i], oy + s.y[i], t);
       eh = std::max(eh, std::fabs(s.h[i] - r.h));
       eg = std::max({eg, std::fabs(s.gx[i] - r.gx), std::fabs(s.gy[i] - r.gy)});
     }
@@ -189,7 +189,7 @@ TEST(Capillary, LargeCoordinatesAndTimesStayAccurate) {
               eh / p.amplitude, eg / slope_scale);
 
   // Huge or non-finite *local* coordinates are outside the contract but must stay finite and bounded.
-  const CapillaryFrame f = frame_of(p, 1e6);
+  const CapillaryFrame f = noise_frame_of(p, 1e6);
   Samples s(6);
   const float big[6] = {1e5f, -1e5f, 1e9f, INFINITY, -INFINITY, NAN};
   for (std::size_t i = 0; i < s.size(); ++i) s.x[i] = big[i], s.y[i] = big[5 - i], s.level[i] = 6.0f;
@@ -206,7 +206,7 @@ TEST(Capillary, LargeCoordinatesAndTimesStayAccurate) {
 
 TEST(Capillary, HeightAndSlopeWithinAnalyticBounds) {
   CapillaryParams p;
-  const CapillaryFrame f = frame_of(p, 2.0);
+  const CapillaryFrame f = noise_frame_of(p, 2.0);
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> coord(-100.0f, 100.0f);
   // The bounds themselves (docs/physics.md 6.1): 1.5625 sum k^-i and 3.75 sqrt(2) (a / lambda_1) per octave.
@@ -244,7 +244,7 @@ TEST(Capillary, ContinuousInLevelAtEveryInteger) {
   // F(n, D = 1) = F(n + 1, D = 0): across each integer level the surface moves by O(eps) (smoothstep
   // even makes it O(eps^2)). Stated bound: 2 eps * 1.5 (max smoothstep slope) * 1.5625 (a_i + a_{i-1}).
   CapillaryParams p;
-  const CapillaryFrame f = frame_of(p, 1.0);
+  const CapillaryFrame f = noise_frame_of(p, 1.0);
   std::mt19937 rng(13);
   std::uniform_real_distribution<float> coord(-30.0f, 30.0f);
   const float eps = 1e-3f;
@@ -275,7 +275,7 @@ TEST(Capillary, OctavesAboveTheLevelContributeExactlyNothing) {
   // Skipped, not multiplied by zero: a level-2 sample equals the bits of a 2-octave surface.
   CapillaryParams p6, p2;
   p2.max_octaves = 2;
-  const CapillaryFrame f6 = frame_of(p6, 4.5, 3.0, 2.0), f2 = frame_of(p2, 4.5, 3.0, 2.0);
+  const CapillaryFrame f6 = noise_frame_of(p6, 4.5, 3.0, 2.0), f2 = noise_frame_of(p2, 4.5, 3.0, 2.0);
   std::mt19937 rng(17);
   std::uniform_real_distribution<float> coord(-30.0f, 30.0f);
   Samples a(333), b(333);
@@ -306,7 +306,7 @@ TEST(Capillary, GradientIsContinuousAcrossLatticeLines) {
   const houle::CapillaryOctave o = houle::capillary_octave(p, 0);
   const double A = 1.3 - o.shift_u, B = 1.7 - o.shift_v;  // wanted minus fixed shift, lattice units
   const double ox = o.spacing * (o.cos_angle * A - o.sin_angle * B), oy = o.spacing * (o.sin_angle * A + o.cos_angle * B);
-  const CapillaryFrame f = frame_of(p, 0.0, ox, oy);
+  const CapillaryFrame f = noise_frame_of(p, 0.0, ox, oy);
   ASSERT_NEAR(f.off_u[0], 1.3, 1e-4);
   ASSERT_NEAR(f.off_v[0], 1.7, 1e-4);
   const double slope_scale = p.amplitude / p.base_wavelength, delta = 2.5e-4;  // cells
@@ -339,7 +339,7 @@ TEST(Capillary, AnalyticGradientMatchesCentralDifferences) {
   // scale a / lambda_1 (float lattice coordinates, as in MatchesDoubleReference).
   CapillaryParams p;
   const double slope_scale = p.amplitude / p.base_wavelength, t = 7.25, ox = 5432.1, oy = -876.5;
-  const CapillaryFrame f = frame_of(p, t, ox, oy);
+  const CapillaryFrame f = noise_frame_of(p, t, ox, oy);
   std::mt19937 rng(21);
   std::uniform_real_distribution<float> coord(-1.0f, 1.0f), lvl(0.0f, 6.0f);
   Samples s(2000);
@@ -367,7 +367,7 @@ TEST(Capillary, AnalyticGradientMatchesCentralDifferences) {
     q.base_wavelength = wavelength;
     const houle::CapillaryOctave o = houle::capillary_octave(q, 0);
     const double A = 1.3 - o.shift_u, B = 1.7 - o.shift_v;
-    const CapillaryFrame g = frame_of(q, 0.0, o.spacing * (o.cos_angle * A - o.sin_angle * B),
+    const CapillaryFrame g = noise_frame_of(q, 0.0, o.spacing * (o.cos_angle * A - o.sin_angle * B),
                                       o.spacing * (o.sin_angle * A + o.cos_angle * B));
     const float step = float(1e-3 * o.spacing);
     std::uniform_real_distribution<float> near(float(-1.5 * o.spacing), float(1.5 * o.spacing));
@@ -390,7 +390,7 @@ TEST(Capillary, AnalyticGradientMatchesCentralDifferences) {
 TEST(Capillary, HeightOnlyPathGivesTheSameHeights) {
   // Null gradient pointers skip the derivative work; heights keep their bits on every ISA.
   CapillaryParams p;
-  const CapillaryFrame f = frame_of(p, 8.0, -3.0, 9.0);
+  const CapillaryFrame f = noise_frame_of(p, 8.0, -3.0, 9.0);
   std::mt19937 rng(41);
   std::uniform_real_distribution<float> coord(-40.0f, 40.0f), lvl(-0.5f, 6.5f);
   for (houle::Isa isa : houle::supported_isas()) {
@@ -419,8 +419,8 @@ TEST(Capillary, ContinuousInTimeIncludingOffsetWraps) {
   for (std::size_t i = 0; i < pts.size(); ++i) pts.x[i] = coord(rng), pts.y[i] = coord(rng), pts.level[i] = 6.0f;
   auto max_change = [&](double t0, double t1) {
     Samples a = pts, b = pts;
-    a.eval(frame_of(p, t0, 250.0, -40.0));
-    b.eval(frame_of(p, t1, 250.0, -40.0));
+    a.eval(noise_frame_of(p, t0, 250.0, -40.0));
+    b.eval(noise_frame_of(p, t1, 250.0, -40.0));
     double d = 0;
     for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, double(std::fabs(a.h[i] - b.h[i])));
     return d;
@@ -432,9 +432,9 @@ TEST(Capillary, ContinuousInTimeIncludingOffsetWraps) {
   // Find offset wraps in a minute of a long run and check continuity across each.
   int wraps = 0;
   const double t0 = 1e6, step = 0.05;
-  CapillaryFrame prev = frame_of(p, t0, 250.0, -40.0);
+  CapillaryFrame prev = noise_frame_of(p, t0, 250.0, -40.0);
   for (double t = t0 + step; t < t0 + 60.0; t += step) {
-    const CapillaryFrame cur = frame_of(p, t, 250.0, -40.0);
+    const CapillaryFrame cur = noise_frame_of(p, t, 250.0, -40.0);
     for (int i = 0; i < p.max_octaves; ++i) {
       for (int uv = 0; uv < 2; ++uv) {
         const float a = uv ? prev.off_v[i] : prev.off_u[i], b = uv ? cur.off_v[i] : cur.off_u[i];
@@ -443,7 +443,7 @@ TEST(Capillary, ContinuousInTimeIncludingOffsetWraps) {
         double lo = t - step, hi = t;
         while (hi - lo > 1e-7) {
           const double mid = 0.5 * (lo + hi);
-          const CapillaryFrame m = frame_of(p, mid, 250.0, -40.0);
+          const CapillaryFrame m = noise_frame_of(p, mid, 250.0, -40.0);
           const float om = uv ? m.off_v[i] : m.off_u[i];
           (std::fabs(om - a) < 128.0f ? lo : hi) = mid;
         }
@@ -463,7 +463,7 @@ TEST(Capillary, DroppedSlopeVarianceMatchesMeasurement) {
   // Stated tolerance 10 %. Octaves have independent, isotropic slopes of equal variance, so the
   // variance a level lacks is octave_slope_variance * sum(1 - W_i^2).
   CapillaryParams p;
-  const CapillaryFrame f = frame_of(p, 0.5);
+  const CapillaryFrame f = noise_frame_of(p, 0.5);
   std::mt19937 rng(29);
   std::uniform_real_distribution<float> coord(-400.0f, 400.0f);
   const std::size_t n = 100000;
@@ -535,8 +535,8 @@ TEST(Capillary, DeterministicAndPinned) {
     a.y[i] = b.y[i] = coord(rng);
     a.level[i] = b.level[i] = lvl(rng);
   }
-  a.eval(frame_of(p, 12.5, 1.0, 2.0));
-  b.eval(frame_of(p, 12.5, 1.0, 2.0));
+  a.eval(noise_frame_of(p, 12.5, 1.0, 2.0));
+  b.eval(noise_frame_of(p, 12.5, 1.0, 2.0));
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(houle::test::float_order(a.h[i]), houle::test::float_order(b.h[i]));
     EXPECT_EQ(houle::test::float_order(a.gx[i]), houle::test::float_order(b.gx[i]));
@@ -577,7 +577,7 @@ TEST(Capillary, RejectsInvalidParameters) {
   EXPECT_EQ(field_of(p, INFINITY), "time");
   EXPECT_EQ(field_of(p, 0.0, NAN), "origin");
   p.max_octaves = 0;  // no octaves: a flat surface
-  const CapillaryFrame f = frame_of(p, 0.0);
+  const CapillaryFrame f = noise_frame_of(p, 0.0);
   Samples s(3);
   s.level = {0.0f, 3.0f, 6.0f};
   s.eval(f);
@@ -594,7 +594,7 @@ TEST(Capillary, PrintsNanosecondsPerSample) {
     return 1e9 * double(ts.tv_sec) + double(ts.tv_nsec);
   };
   CapillaryParams p;
-  const CapillaryFrame f = frame_of(p, 3.0);
+  const CapillaryFrame f = noise_frame_of(p, 3.0);
   std::mt19937 rng(37);
   // A screen-like walk: neighbouring samples are neighbouring points, as a marcher's are.
   Samples s(1 << 14);

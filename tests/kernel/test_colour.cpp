@@ -11,33 +11,12 @@
 #include <vector>
 
 #include "houle/render/colour.hpp"
+#include "test_vectors.hpp"
 
 namespace {
 
 using houle::LinearRgb;
 using houle::Spectrum;
-
-// Rows of a CSV test vector file in tests/data (comment lines start with '#', then a header); cells
-// stay text because sea_colours.csv names its seas.
-std::vector<std::vector<std::string>> read_csv(const std::string& name) {
-  std::ifstream f(std::string(HOULE_TEST_DATA_DIR) + "/" + name);
-  EXPECT_TRUE(f.good()) << "cannot read " << name;
-  std::vector<std::vector<std::string>> rows;
-  bool header = true;
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    if (header) {
-      header = false;
-      continue;
-    }
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
-    rows.push_back(cells);
-  }
-  return rows;
-}
 
 double max_abs_diff(LinearRgb a, LinearRgb b) {
   return std::max({std::fabs(double(a.r) - b.r), std::fabs(double(a.g) - b.g), std::fabs(double(a.b) - b.b)});
@@ -151,7 +130,7 @@ TEST(Colour, SmitsWeightsReconstructTheInput) {
 }
 
 TEST(Colour, SeaColoursMatchTestVectors) {
-  const auto rows = read_csv("sea_colours.csv");
+  const auto rows = read_test_vectors("sea_colours.csv").rows;
   ASSERT_EQ(rows.size(), 28u);
   double worst_xy = 0, worst_lin = 0, worst_mapped = 0;
   int worst_8bit = 0;
@@ -204,7 +183,7 @@ houle::WaterColourLut make_lut(houle::WaterColourParams p = {}) {
 }
 
 TEST(WaterColour, WhiteTransmittanceMatchesTestVectors) {
-  const auto rows = read_csv("water_transmittance_rgb.csv");
+  const auto rows = read_test_vectors("water_transmittance_rgb.csv").rows;
   ASSERT_EQ(rows.size(), 43u);
   const houle::WaterColourLut lut = make_lut();
   double worst_exact = 0, worst_lut = 0;

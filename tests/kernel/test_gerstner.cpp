@@ -47,16 +47,16 @@ Ref reference_at(const std::vector<GerstnerWave>& waves, double t, double ux, do
   return r;
 }
 
-struct Outputs {
+struct GerstnerOutputs {
   std::vector<float> h, gx, gy;
-  explicit Outputs(std::size_t n) : h(n, -7.0f), gx(n, -7.0f), gy(n, -7.0f) {}
+  explicit GerstnerOutputs(std::size_t n) : h(n, -7.0f), gx(n, -7.0f), gy(n, -7.0f) {}
   houle::GerstnerOutput view() { return {h.data(), gx.data(), gy.data()}; }
 };
 
 // Stated tolerance of every SIMD path against the scalar reference, in ulps of the output's scale
 // (sum of amplitudes for heights, sum of k A for slopes). The kernel uses only +, -, * and the
 // correctly rounded simd::div, without contraction: every ISA gives the scalar bits, tolerance 0.
-std::int64_t simd_ulp_tolerance(houle::Isa) { return 0; }
+std::int64_t gerstner_ulp_tolerance(houle::Isa) { return 0; }
 
 TEST(Gerstner, EveryIsaMatchesScalarIncludingTails) {
   std::mt19937 rng(42);
@@ -74,7 +74,7 @@ TEST(Gerstner, EveryIsaMatchesScalarIncludingTails) {
       for (std::size_t n : sizes) {
         std::vector<float> x(n), y(n);
         for (std::size_t i = 0; i < n; ++i) x[i] = coord(rng), y[i] = coord(rng);
-        Outputs ref(n), got(n);
+        GerstnerOutputs ref(n), got(n);
         houle::gerstner_eval(houle::Isa::scalar, frame.value(), x.data(), y.data(), n, ref.view());
         houle::gerstner_eval(isa, frame.value(), x.data(), y.data(), n, got.view());
         for (std::size_t i = 0; i < n; ++i) {
@@ -84,9 +84,9 @@ TEST(Gerstner, EveryIsaMatchesScalarIncludingTails) {
         }
       }
     }
-    EXPECT_LE(worst, simd_ulp_tolerance(isa)) << "ISA " << houle::isa_name(isa);
+    EXPECT_LE(worst, gerstner_ulp_tolerance(isa)) << "ISA " << houle::isa_name(isa);
     std::printf("gerstner %s vs scalar: max %lld ulp (tolerance %lld)\n", houle::isa_name(isa).data(),
-                static_cast<long long>(worst), static_cast<long long>(simd_ulp_tolerance(isa)));
+                static_cast<long long>(worst), static_cast<long long>(gerstner_ulp_tolerance(isa)));
   }
 }
 
@@ -105,7 +105,7 @@ TEST(Gerstner, HeightAndGradientMatchDoubleOracle) {
       const double ux = coord(rng), uy = coord(rng);
       const Ref r = reference_at(waves, t, ux, uy);
       const float x = float(r.px), y = float(r.py);
-      Outputs o(1);
+      GerstnerOutputs o(1);
       houle::gerstner_eval(frame.value(), &x, &y, 1, o.view(), 4);
       EXPECT_NEAR(o.h[0], r.z, 2e-5 * amp_sum + 1e-6);
       // Gradient against central differences of the double surface, via the rest positions.
@@ -131,7 +131,7 @@ TEST(Gerstner, SineWaveIsExact) {
   ASSERT_TRUE(frame.ok());
   for (float x = -20.0f; x <= 20.0f; x += 0.37f) {
     const float y = 3.0f;
-    Outputs o(1);
+    GerstnerOutputs o(1);
     houle::gerstner_eval(frame.value(), &x, &y, 1, o.view());
     const double th = 0.5 * x - 2.0 * t + 0.25;
     EXPECT_NEAR(o.h[0], 0.3 * std::sin(th), 1e-6);
@@ -150,7 +150,7 @@ TEST(Gerstner, PhaseStaysAccurateAtHugeTimes) {
     const std::vector<GerstnerWave> waves{w};
     const Ref r = reference_at(waves, t, 1.25, -2.5);
     const float x = float(r.px), y = float(r.py);
-    Outputs o(1);
+    GerstnerOutputs o(1);
     houle::gerstner_eval(frame.value(), &x, &y, 1, o.view());
     EXPECT_NEAR(o.h[0], r.z, 1e-3 * w.amplitude) << "t = " << t;
   }

@@ -13,34 +13,14 @@
 #include "houle/runtime/isa.hpp"
 #include "houle/render/optics.hpp"
 #include "ulp.hpp"
+#include "angles.hpp"
+#include "test_vectors.hpp"
 
 namespace {
 
 using Vec = std::array<double, 3>;
-constexpr double deg = std::numbers::pi / 180.0;
+using houle_test::deg;
 constexpr float n_water = houle::water_refractive_index;
-
-// Rows of a CSV test vector file in tests/data (comment lines start with '#', then a header).
-std::vector<std::vector<double>> read_csv(const std::string& name, std::vector<std::string>& header) {
-  std::ifstream f(std::string(HOULE_TEST_DATA_DIR) + "/" + name);
-  EXPECT_TRUE(f.good()) << "cannot read " << name;
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
-    if (header.empty()) {
-      header = cells;
-    } else {
-      std::vector<double> row;
-      for (const auto& c : cells) row.push_back(std::stod(c));
-      rows.push_back(row);
-    }
-  }
-  return rows;
-}
 
 double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Vec cross(const Vec& a, const Vec& b) {
@@ -70,14 +50,15 @@ double fresnel_transmittance(double c, double n1, double n2) {
 // simd::div and simd::sqrt (correctly rounded on x86-64 and AArch64) without contraction, so the bits
 // are identical. ARMv7 NEON divides and takes square roots by estimate plus Newton steps: a few ulp,
 // and an absolute 1e-6 where a component is a difference of nearly equal numbers.
-std::int64_t simd_ulp_tolerance(houle::Isa isa) { return isa == houle::Isa::neon ? 64 : 0; }
+std::int64_t optics_ulp_tolerance(houle::Isa isa) { return isa == houle::Isa::neon ? 64 : 0; }
 float simd_abs_tolerance(houle::Isa isa) { return isa == houle::Isa::neon ? 1e-6f : 0.0f; }
 
 const std::vector<std::size_t> sizes = {0, 1, 2, 3, 5, 7, 8, 9, 15, 16, 17, 8 * 5 + 3, 8 * 37 + 3, 16 * 20 + 3, 1000};
 
 TEST(Fresnel, MatchesTestVectorsBothDirections) {
-  std::vector<std::string> header;
-  const auto rows = read_csv("fresnel_water.csv", header);
+  const TestVectors vectors = read_test_vectors("fresnel_water.csv");
+  const std::vector<std::string>& header = vectors.header;
+  const auto rows = numeric_rows(vectors);
   ASSERT_EQ(rows.size(), 91u);
   ASSERT_EQ(header[1], "R_air_to_water");
   ASSERT_EQ(header[3], "R_water_to_air");
@@ -164,9 +145,9 @@ TEST(Fresnel, EveryIsaMatchesScalarIncludingTails) {
         }
       }
     }
-    EXPECT_LE(worst, simd_ulp_tolerance(isa)) << "ISA " << houle::isa_name(isa);
+    EXPECT_LE(worst, optics_ulp_tolerance(isa)) << "ISA " << houle::isa_name(isa);
     std::printf("fresnel %s vs scalar: max %lld ulp (tolerance %lld)\n", houle::isa_name(isa).data(),
-                static_cast<long long>(worst), static_cast<long long>(simd_ulp_tolerance(isa)));
+                static_cast<long long>(worst), static_cast<long long>(optics_ulp_tolerance(isa)));
   }
 }
 
@@ -277,9 +258,9 @@ TEST(ReflectRefract, EveryIsaMatchesScalarIncludingTails) {
         }
       }
     }
-    EXPECT_LE(worst, simd_ulp_tolerance(isa)) << "ISA " << houle::isa_name(isa);
+    EXPECT_LE(worst, optics_ulp_tolerance(isa)) << "ISA " << houle::isa_name(isa);
     std::printf("reflect_refract %s vs scalar: max %lld ulp (tolerance %lld)\n", houle::isa_name(isa).data(),
-                static_cast<long long>(worst), static_cast<long long>(simd_ulp_tolerance(isa)));
+                static_cast<long long>(worst), static_cast<long long>(optics_ulp_tolerance(isa)));
   }
 }
 

@@ -14,32 +14,13 @@
 #include "houle/render/colour.hpp"
 #include "houle/render/optics.hpp"
 #include "houle/render/sky.hpp"
+#include "angles.hpp"
+#include "test_vectors.hpp"
 
 namespace {
 
-constexpr double pi = std::numbers::pi;
-constexpr double deg = pi / 180.0;
-
-// Rows of a numeric CSV test vector file in tests/data (comment lines start with '#', then a header).
-std::vector<std::vector<double>> read_csv(const std::string& name) {
-  std::ifstream f(std::string(HOULE_TEST_DATA_DIR) + "/" + name);
-  EXPECT_TRUE(f.good()) << "cannot read " << name;
-  std::vector<std::vector<double>> rows;
-  bool header = true;
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    if (header) {
-      header = false;
-      continue;
-    }
-    std::vector<double> row;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
-  return rows;
-}
+using houle_test::pi;
+using houle_test::deg;
 
 std::array<float, 3> direction(double zenith_rad, double azimuth_rad) {
   return {float(std::sin(zenith_rad) * std::cos(azimuth_rad)), float(std::sin(zenith_rad) * std::sin(azimuth_rad)),
@@ -53,7 +34,7 @@ houle::PreethamSky make_sky(double turbidity, double sun_zenith_deg, double sun_
 }
 
 TEST(Preetham, MatchesTestVectors) {
-  const auto rows = read_csv("preetham_testvectors.csv");
+  const auto rows = numeric_rows(read_test_vectors("preetham_testvectors.csv"));
   ASSERT_EQ(rows.size(), 250u);
   double worst_y = 0, worst_xy = 0, worst_dir_y = 0;
   for (const auto& r : rows) {

@@ -17,11 +17,12 @@
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "houle/sim/wave_rays.hpp"
+#include "angles.hpp"
 
 namespace {
 
 using cd = std::complex<double>;
-constexpr double pi = std::numbers::pi;
+using houle_test::pi;
 constexpr double depth = 60.0, wavelength = 8.0;  // deep water: no shoaling, L = g T^2 / (2 pi)
 constexpr double centre = 120.0;                  // the domain is [0, 240]^2
 

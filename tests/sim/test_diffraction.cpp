@@ -14,14 +14,15 @@
 #include <utility>
 
 #include "houle/sim/diffraction.hpp"
+#include "angles.hpp"
 
 namespace {
 
 using houle::DiffractionModel;
 using cplx = std::complex<double>;
-constexpr double pi = std::numbers::pi;
+using houle_test::pi;
 constexpr double two_pi = 2.0 * pi;
-constexpr double deg = pi / 180.0;
+using houle_test::deg;
 
 double K_at_beta(DiffractionModel m, double r_over_L, double beta, double gamma, double alpha) {
   const auto s = houle::diffraction_at_beta(m, r_over_L, beta, gamma, alpha);

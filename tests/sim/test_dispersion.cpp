@@ -12,10 +12,11 @@
 #include "houle/sim/dispersion.hpp"
 #include "dispersion_table.hpp"  // sim/src: the ray tracer's tabulated kh
 #include "ulp.hpp"
+#include "angles.hpp"
 
 namespace {
 
-constexpr double pi = std::numbers::pi;
+using houle_test::pi;
 
 // Independent oracle: bisection on x tanh x = y in long double (no shared start, no Newton).
 double reference_kh(double y) {

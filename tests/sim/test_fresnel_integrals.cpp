@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "fresnel_integrals.hpp"
+#include "angles.hpp"
 
 namespace {
 
@@ -16,7 +17,7 @@ using houle::detail::fresnel;
 using houle::detail::fresnel_aux;
 using houle::detail::fresnel_aux_fg;
 using houle::detail::fresnel_tail;
-constexpr double pi = std::numbers::pi;
+using houle_test::pi;
 
 // Reference: mpmath 1.2.1 at 50 significant digits (mp.fresnelc, mp.fresnels, pi/2 convention),
 // evaluated at the double nearest each x; f and g from (1/2 - C) + i (1/2 - S) = (g + i f) e^{i pi x^2/2}.

@@ -11,12 +11,13 @@
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "houle/sim/wave_rays.hpp"
+#include "angles.hpp"
 
 namespace {
 
 using houle::Scene;
 using houle::WaveRays;
-constexpr double pi = std::numbers::pi;
+using houle_test::pi;
 
 // Flat 10 m, one train from the south, a straight wall across the whole domain (both ends outside
 // it: no pierhead, no diffraction) from (-5, y_west) to (205, y_east).

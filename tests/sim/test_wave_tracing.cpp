@@ -16,6 +16,7 @@
 #include "houle/sim/diffraction.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/wave_rays.hpp"
+#include "angles.hpp"
 
 namespace {
 
@@ -23,7 +24,7 @@ using houle::Scene;
 using houle::WaveRays;
 namespace rf = houle::ray_flag;
 namespace sf = houle::sample_flag;
-constexpr double pi = std::numbers::pi;
+using houle_test::pi;
 
 WaveRays trace(const Scene& s, std::size_t train = 0, houle::DwtStats* stats = nullptr) {
   auto r = houle::trace_train(s, train, s.dwt, stats);
