@@ -160,9 +160,11 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
     std::printf(" \"warnings\": [");
     for (std::size_t i = 0; i < warnings.size(); ++i) std::printf("%s%s", i ? ", " : "", json_string(warnings[i]).c_str());
     std::printf("],\n");
-    std::printf(" \"plan\": {\"ray_tracing\": %s, \"diffraction\": %s, \"wall_reflection\": %s, \"capillary_noise\": %s, "
+    std::printf(" \"plan\": {\"ray_tracing\": %s, \"wave_model\": \"%s\", \"wave_model_why\": %s, \"diffraction\": %s, "
+                "\"wall_reflection\": %s, \"capillary_noise\": %s, "
                 "\"refraction\": %s, \"specular\": %s, \"shadows\": %s, \"reflect_objects\": %s},\n",
-                json_bool(plan.ray_tracing), json_bool(plan.diffraction), json_bool(plan.wall_reflection),
+                json_bool(plan.ray_tracing), wave_model_name(plan.wave_model.kind).data(),
+                json_string(std::string(plan.wave_model.why)).c_str(), json_bool(plan.diffraction), json_bool(plan.wall_reflection),
                 json_bool(plan.capillary_noise), json_bool(plan.refraction), json_bool(plan.specular),
                 json_bool(plan.shadows), json_bool(plan.reflect_objects));
     std::printf(" \"trains\": [");
@@ -171,11 +173,14 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
       const WaveRays& w = field->trains[i];
       const double omega = train_omega(t);
       const Point2 d = train_direction(t);
+      const TrainField& f = sea->trains()[i];
       std::printf("%s\n  {\"period_s\": %.6g, \"deep_wavelength_m\": %.6g, \"amplitude_m\": %g, \"direction_deg\": %.6g, "
-                  "\"traced\": %s, \"rays\": %zu, \"samples\": %zu}",
+                  "\"traced\": %s, \"rays\": %zu, \"samples\": %zu, \"model\": \"%s\", \"march_nodes\": %llu, "
+                  "\"resolved_wavelength_m\": %.6g}",
                   i ? "," : "", 2.0 * std::numbers::pi / omega, 2.0 * std::numbers::pi * 9.81 / (omega * omega),
                   t.amplitude, std::atan2(d.y, d.x) * 180.0 / std::numbers::pi, json_bool(plan.train_rays[i]),
-                  w.ray_count(), w.sample_count());
+                  w.ray_count(), w.sample_count(), wave_model_name(f.model).data(),
+                  static_cast<unsigned long long>(f.model_nodes), f.resolved_wavelength);
     }
     std::printf("],\n \"reflections\": [");
     for (std::size_t i = 0; i < field->reflections.size(); ++i) {
@@ -216,6 +221,11 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
                 std::atan2(d.y, d.x) * 180.0 / std::numbers::pi);
     if (plan.train_rays[i]) {
       std::printf("      traced: %zu rays, %zu samples\n", w.ray_count(), w.sample_count());
+      const TrainField& f = sea->trains()[i];
+      if (f.model == WaveModelKind::parabolic) {
+        std::printf("      parabolic model: %llu march nodes, wavelengths down to %.3g m resolved\n",
+                    static_cast<unsigned long long>(f.model_nodes), f.resolved_wavelength);
+      }
     } else {
       std::printf("      analytic: straight crests, no rays\n");
     }
@@ -226,9 +236,10 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
   std::printf("walls: %zu, boxes: %zu, spheres: %zu\n", s.walls.size(), s.boxes.size(), s.spheres.size());
   for (const std::string& w : warnings) std::printf("warning: %s\n", w.c_str());
   std::printf("capillary ripples: %s\n", s.capillary.amplitude > 0.0 ? "on" : "off");
-  std::printf("effect plan (%s): ray tracing %s, diffraction %s, wall reflection %s, capillary noise %s, refraction %s, "
-              "specular %s, shadows %s, object reflections %s\n",
-              quality_name(quality).data(), yes(plan.ray_tracing), yes(plan.diffraction), yes(plan.wall_reflection),
+  std::printf("effect plan (%s): ray tracing %s, wave model %s (%s), diffraction %s, wall reflection %s, capillary noise %s, "
+              "refraction %s, specular %s, shadows %s, object reflections %s\n",
+              quality_name(quality).data(), yes(plan.ray_tracing), wave_model_name(plan.wave_model.kind).data(),
+              plan.wave_model.why.data(), yes(plan.diffraction), yes(plan.wall_reflection),
               yes(plan.capillary_noise), yes(plan.refraction), yes(plan.specular), yes(plan.shadows),
               yes(plan.reflect_objects));
   std::printf("rays: %llu (%llu initial, %llu inserted, %llu reflected), %llu samples, %llu wavefront steps (%llu shared "

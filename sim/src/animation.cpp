@@ -8,6 +8,8 @@
 #include <string>
 
 #include "houle/runtime/assert.hpp"
+#include "houle/sim/bathymetry.hpp"
+#include "parabolic_model.hpp"
 
 namespace houle {
 namespace {
@@ -25,16 +27,21 @@ std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20)
 }  // namespace
 
 // Per traced sample: the tracer's store (9 doubles, flags, ray index) and the output rays (7 doubles,
-// flags) exist together at the end of a trace. Per sea grid node: phi, amplitude, kx, ky. The floor
+// flags) exist together at the end of a trace. Per sea grid node: phi, amplitude, kx, ky; with the
+// parabolic model, its march grid too. The floor
 // grid has one float per metre (render_scene.cpp). Per pixel: the renderer's and the caller's buffers,
 // and the primary hits the renderer keeps (counted at up to 8 samples, capped as the renderer caps them).
 Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t pixels) {
   constexpr std::uint64_t per_sample = 9 * 8 + 1 + 4 + 7 * 8 + 1, per_node = 4 * 4, per_pixel = 64;
   std::uint64_t rays = 0, sea = 0;
+  const bool parabolic = scene_wave_model(s).kind == WaveModelKind::parabolic;
+  const Bathymetry bathymetry(s.floor);
   for (std::size_t t = 0; t < s.trains.size(); ++t) {
     if (s.dwt.analytic_shortcut && !train_needs_rays(s, t)) continue;
     rays += std::uint64_t(dwt_bound(s, t, s.dwt).samples) * per_sample;
     sea += grid_nodes(s.domain, sea_cell) * per_node;
+    // The parabolic model's march grid (a complex float a node) lives while its train is resampled.
+    if (parabolic) sea += detail::parabolic_nodes(s, bathymetry, detail::parabolic_train(s, bathymetry, t)) * 8;
   }
   const std::uint64_t kept = std::min<std::uint64_t>(pixels * 8 * Renderer::kept_hit_bytes, Renderer::max_kept_bytes);
   const std::uint64_t floor = grid_nodes(s.domain, 1.0) * 4, image = pixels * per_pixel + kept;

@@ -171,6 +171,10 @@ std::complex<double> sommerfeld_field(double k_r, double theta, double theta0, d
   return sommerfeld_term(s, k_r, theta - theta0, radial) + alpha * sommerfeld_term(s, k_r, theta + theta0, radial);
 }
 
+std::complex<double> sommerfeld_reflected(double k_r, double theta, double theta0) noexcept {
+  return sommerfeld_term(std::sqrt(4.0 / pi * k_r), k_r, theta + theta0, std::polar(1.0, k_r));
+}
+
 std::complex<float> sommerfeld_field_fg(double k_r, double theta, double theta0, float alpha) noexcept {
   const double s = std::sqrt(4.0 / pi * k_r);
   const std::complex<float> radial = std::polar(1.0f, float(std::remainder(k_r, two_pi)));

@@ -92,6 +92,56 @@ LinearWave linear_wave(double omega, double depth, double kh_guess) noexcept {
   return make_linear_wave(omega, depth, solve_kh(deep_water_wavenumber(omega) * depth, kh_guess));
 }
 
+double amplitude_dispersion_k(double omega, double depth, double amplitude, double k_linear) noexcept {
+  if (!positive_finite(depth) || !positive_finite(k_linear)) return 0.0;
+  if (!positive_finite(amplitude)) return k_linear;
+  const double w2 = omega * omega;
+  // f1 D written as tanh kh (cosh 4kh + 8 - 2 tanh^2 kh) / (8 cosh^4 kh): finite as kh -> 0, and 1
+  // (to e^-40) beyond kh = 20, where cosh 4kh would overflow first.
+  const auto residual = [&](double k) {
+    const double kh = k * depth, e = k * amplitude;
+    double f1d = 1.0, f2 = 0.0;
+    if (kh < 20.0) {
+      const double t = std::tanh(kh), c = std::cosh(kh);
+      f1d = t * (std::cosh(4.0 * kh) + 8.0 - 2.0 * t * t) / (8.0 * c * c * c * c);
+      const double r = kh < 1e-4 ? 1.0 : kh / std::sinh(kh);
+      f2 = r * r * r * r;
+    }
+    return gravity * k * (1.0 + f1d * e * e) * std::tanh(kh + f2 * e) - w2;
+  };
+  // residual(k_linear) >= 0 (both corrections raise the phase speed) and residual -> -omega^2 as k
+  // -> 0: bracket the root, then Illinois regula falsi (converges in a few steps from k_linear).
+  double hi = k_linear, f_hi = residual(hi);
+  if (!(f_hi > 0.0)) return k_linear;
+  double lo = 0.5 * k_linear, f_lo = residual(lo);
+  while (f_lo > 0.0 && lo > 1e-6 * k_linear) {
+    hi = lo;
+    f_hi = f_lo;
+    lo *= 0.5;
+    f_lo = residual(lo);
+  }
+  if (f_lo > 0.0) return lo;
+  int side = 0;
+  double k = hi;
+  for (int i = 0; i < 60 && hi - lo > 1e-12 * hi; ++i) {
+    k = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+    const double f = residual(k);
+    if (f > 0.0) {
+      hi = k;
+      f_hi = f;
+      if (side == 1) f_lo *= 0.5;
+      side = 1;
+    } else {
+      lo = k;
+      f_lo = f;
+      if (side == -1) f_hi *= 0.5;
+      side = -1;
+    }
+    if (std::fabs(f) <= 1e-14 * w2) break;
+  }
+  return k;
+}
+
 namespace {
 void check_batch(double omega, const float* depth, std::size_t n, const float* k) noexcept {
   HOULE_ASSERT(omega > 0.0, "dispersion_k_batch: omega > 0 rad/s");

@@ -29,6 +29,7 @@ EffectPlan plan_effects(const Scene& scene, const Quality& quality) {
     p.train_rays[t] = !scene.dwt.analytic_shortcut ? scene.trains[t].amplitude > 0.0 : train_needs_rays(scene, t);
     p.ray_tracing = p.ray_tracing || p.train_rays[t];
   }
+  p.wave_model = scene_wave_model(scene);
   p.diffraction = p.ray_tracing && scene_has_pierheads(scene);
   p.wall_reflection = p.ray_tracing && scene_has_reflecting_walls(scene);
   p.capillary_noise = scene.capillary.amplitude > 0.0 && scene.capillary.max_octaves > 0;

@@ -85,7 +85,7 @@ std::vector<Capsule> wall_capsules(const std::vector<Wall>& walls) {
   return out;
 }
 
-WallHit first_wall_hit(const std::vector<Capsule>& capsules, double x0, double y0, double x1, double y1) noexcept {
+WallHit first_wall_hit(std::span<const Capsule> capsules, double x0, double y0, double x1, double y1) noexcept {
   WallHit best;
   // Cheap reject: the chord's bounding box grown by the radius must overlap the segment's.
   const double cx0 = std::min(x0, x1), cx1 = std::max(x0, x1), cy0 = std::min(y0, y1), cy1 = std::max(y0, y1);

@@ -2,6 +2,7 @@
 // the pierheads at their free ends, where the sea surface diffracts. Internal to houle_sim.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "houle/sim/bathymetry.hpp"
@@ -33,7 +34,7 @@ std::vector<Capsule> wall_capsules(const std::vector<Wall>& walls);
 /// First contact of the chord p0 -> p1 with any capsule. A chord that starts inside a capsule (deeper
 /// than 1e-9 m) hits at u = 0; one that only touches the surface, or starts on it and moves away or
 /// along it, does not hit (so rays can start on a wall's surface and graze its face).
-WallHit first_wall_hit(const std::vector<Capsule>& capsules, double x0, double y0, double x1, double y1) noexcept;
+WallHit first_wall_hit(std::span<const Capsule> capsules, double x0, double y0, double x1, double y1) noexcept;
 
 /// Outward unit normal of wall `wall`'s surface at the point (x, y) on it (from the nearest of its
 /// capsules' axes); false if the point lies on an axis (no direction) or the wall has no capsule.

@@ -291,6 +291,23 @@ constexpr Key<DwtSettings> dwt_keys[] = {
      cap_policies},
 };
 
+constexpr Choice wave_model_kinds[] = {
+    {"rays", int(WaveModelKind::rays), "geometric optics, each pierhead's diffracted wave added"},
+    {"parabolic", int(WaveModelKind::parabolic),
+     "a wide-angle parabolic mild-slope model marched along each train: refraction and diffraction together"},
+    {"auto", int(WaveModelKind::automatic),
+     "parabolic over shoals, bars, channels or a height map (where rays cross), rays over flat floors and plane beaches"},
+};
+constexpr Key<WaveModel> wave_model_keys[] = {
+    {"kind", &WaveModel::kind, "", any, "how each traced train's field is computed", wave_model_kinds},
+    {"points_per_wavelength", &WaveModel::points_per_wavelength, "", {4.0, 64.0},
+     "parabolic: grid points across the march per wavelength, at the shortest wavelength resolved"},
+    {"steps_per_wavelength", &WaveModel::steps_per_wavelength, "", {4.0, 64.0},
+     "parabolic: march steps per wavelength"},
+    {"amplitude_dispersion", &WaveModel::amplitude_dispersion, "", any,
+     "parabolic: the wavenumber depends on the local wave height (Kirby & Dalrymple 1986)"},
+};
+
 }  // namespace
 
 constexpr Section<Domain> domain{"domain", false, "where water is simulated", "", domain_keys,
@@ -333,5 +350,11 @@ constexpr Section<Water> water{"water", false, "the water's colour", "", water_k
                                [](Scene& s) -> Water& { return s.water; }};
 constexpr Section<DwtSettings> dwt{"dwt", false, "accuracy knobs of the wave-ray tracer", "", dwt_keys,
                                    [](Scene& s) -> DwtSettings& { return s.dwt; }};
+constexpr Section<WaveModel> wave_model{
+    "wave_model", false, "which model computes each traced train's field",
+    "Rays are traced in every case (they give the walls' reflected waves). Over a floor whose rays cross, "
+    "behind a shoal or round an island, rays can only cap their amplitudes; the parabolic model marches the "
+    "wave itself. `docs/physics.md` 11 describes it, `docs/accuracy.md` compares both.",
+    wave_model_keys, [](Scene& s) -> WaveModel& { return s.wave_model; }};
 
 }  // namespace houle::scene_keys

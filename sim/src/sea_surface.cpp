@@ -5,6 +5,7 @@
 #include <complex>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 
 #include "houle/runtime/assert.hpp"
@@ -14,6 +15,7 @@
 #include "houle/sim/dispersion.hpp"
 #include "carrier_march.hpp"
 #include "dispersion_table.hpp"
+#include "parabolic_model.hpp"
 #include "ray_walls.hpp"
 
 namespace houle {
@@ -311,11 +313,7 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
     s.amplitude0_.push_back(float(scene.trains[t].amplitude));
     f.omega = rays.omega;
     f.phase = scene.trains[t].phase;
-    // Entry depth: where the train's rays come in, the domain's upstream edge centre.
-    const double cx = 0.5 * (d.x_min + d.x_max) - rays.direction_x * 0.5 * (d.x_max - d.x_min);
-    const double cy = 0.5 * (d.y_min + d.y_max) - rays.direction_y * 0.5 * (d.y_max - d.y_min);
-    const double steepness = scene.trains[t].steepness;
-    set_far_field(g, scene, rays, steepness, floor.depth(std::clamp(cx, d.x_min, d.x_max), std::clamp(cy, d.y_min, d.y_max)));
+    set_far_field(g, scene, rays, scene.trains[t].steepness, detail::entry_depth(scene, floor, rays.direction_x, rays.direction_y));
     b_max[t] = g.far_amplitude;
     if (rays.analytic) continue;
     const double nx = std::ceil((d.x_max - d.x_min) / cell) + 1, ny = std::ceil((d.y_max - d.y_min) / cell) + 1;
@@ -389,6 +387,27 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       scene.dwt.diffraction ? detail::pierhead_sites(scene, floor, rays.min_depth) : std::vector<detail::PierheadSite>{};
   FamilyField incident;
   incident.splat(geo, g, rays, [](std::size_t) { return true; }, radius, walls);
+  // The parabolic model's field replaces the incident rays and the pierheads' diffraction of the
+  // incident wave (it diffracts by itself); the rays still seed the carrier, give the reflected waves
+  // and K''s reference (docs/physics.md 11.6).
+  std::optional<detail::ParabolicField> marched;
+  if (scene_wave_model(scene).kind == WaveModelKind::parabolic) {
+    detail::ParabolicTrain pt = detail::parabolic_train(scene, floor, t);
+    pt.far_offset = g.far_offset;
+    Expected<detail::ParabolicField> m = detail::march_parabolic(scene, floor, pt);
+    HOULE_ASSERT(m.ok(), "SeaSurface: a traced train has a wave to march");
+    marched = std::move(m).value();
+    f.model = WaveModelKind::parabolic;
+    f.model_nodes = std::uint64_t(marched->rows()) * marched->columns;
+    f.resolved_wavelength = marched->resolved_wavelength;
+  }
+  // How far a node's march-grid corners may lie from it.
+  double march_reach = 0.0;
+  if (marched) {
+    double ds = 0.0;
+    for (std::size_t r = 1; r < marched->rows(); ++r) ds = std::max(ds, marched->s[r] - marched->s[r - 1]);
+    march_reach = std::hypot(ds, marched->dn);
+  }
 
   // The pierheads this train reaches, with the incident wave at each.
   std::vector<Pierhead> pierheads;
@@ -482,26 +501,42 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       return v.amplitude * (sign < 0.0 ? 1.0 : p.site.reflection) * std::polar(1.0, phase - psi);
     };
     cplx incident_part = 0.0, reflected_part = 0.0, diffracted_part = 0.0;
-    // The incident rays, cut at every pierhead's shadow line. The last ray may pass up to a ray
-    // spacing from M: where none reached near the line, the pierhead's plane wave fills the gap.
     if (incident.covers(n)) reference[n] = std::hypot(incident.re[n], incident.im[n]);
-    bool lit = incident.covers(n);
-    std::size_t fill = pierheads.size();
-    for (std::size_t q = 0; q < pierheads.size(); ++q) {
-      const Pierhead& p = pierheads[q];
-      if (from_half_line(x, y, p.site.x, p.site.y, p.shadow_x, p.shadow_y) >= band) continue;
-      if (in_shadow(views[q].polar)) {
-        lit = false;
-      } else if (!incident.covers(n)) {
-        fill = q;
+    bool arrived = false;
+    if (marched) {
+      // No corner of the march grid across a wall from the node (the two faces of a thin wall see
+      // different waves).
+      const bool near = std::any_of(walls.begin(), walls.end(), [&](const detail::Capsule& c) {
+        return detail::point_segment_dist2(x, y, c) < (march_reach + c.radius) * (march_reach + c.radius);
+      });
+      // Where the march has no wave next to the node (at the waterline, in a wall's lee corner), the
+      // shoreline pass below carries the nearest wave there.
+      const std::optional<cplx> v = marched->relative(x, y, psi, [&](double cx, double cy) {
+        return near && detail::first_wall_hit(walls, x, y, cx, cy).hit;
+      });
+      incident_part = v.value_or(0.0);
+      arrived = v.has_value();
+    } else {
+      // The incident rays, cut at every pierhead's shadow line. The last ray may pass up to a ray
+      // spacing from M: where none reached near the line, the pierhead's plane wave fills the gap.
+      bool lit = incident.covers(n);
+      std::size_t fill = pierheads.size();
+      for (std::size_t q = 0; q < pierheads.size(); ++q) {
+        const Pierhead& p = pierheads[q];
+        if (from_half_line(x, y, p.site.x, p.site.y, p.shadow_x, p.shadow_y) >= band) continue;
+        if (in_shadow(views[q].polar)) {
+          lit = false;
+        } else if (!incident.covers(n)) {
+          fill = q;
+        }
       }
+      if (lit) {
+        incident_part += cplx(incident.re[n], incident.im[n]);
+      } else if (fill < pierheads.size()) {
+        incident_part += plane_wave(fill, -1.0);
+      }
+      arrived = lit || fill < pierheads.size();
     }
-    if (lit) {
-      incident_part += cplx(incident.re[n], incident.im[n]);
-    } else if (fill < pierheads.size()) {
-      incident_part += plane_wave(fill, -1.0);
-    }
-    bool arrived = lit || fill < pierheads.size();
     // The reflected waves, cut and filled in the same way at their shadow lines (the exact model
     // diffracts them; the paper's models do not, and leave them as traced).
     bool reflection_covers = false;
@@ -527,7 +562,9 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       break;
     }
     // Each pierhead's diffracted wave: the semi-infinite solution minus its geometric-optics part
-    // (docs/physics.md 4.7), or a paper model's coefficient minus the incident wave.
+    // (docs/physics.md 4.7), or a paper model's coefficient minus the incident wave. With the
+    // parabolic model only the reflected wave's (Sommerfeld's solution is linear in alpha: its
+    // alpha term), which the march does not carry; the paper's models diffract no reflected wave.
     for (std::size_t q = 0; q < pierheads.size(); ++q) {
       const Pierhead& p = pierheads[q];
       const PierheadView& v = views[q];
@@ -535,7 +572,12 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       const double alpha = p.site.reflection;
       const cplx go1 = std::polar(1.0, -v.k_r * std::cos(v.polar.theta - v.polar.theta0));
       cplx d;
-      if (model == DiffractionModel::exact) {
+      if (marched) {
+        if (model != DiffractionModel::exact || !(alpha > 0.0)) continue;
+        d = sommerfeld_reflected(v.k_r, v.polar.theta, v.polar.theta0);
+        if (!beyond_reflection(v.polar)) d -= std::polar(1.0, -v.k_r * std::cos(v.polar.theta + v.polar.theta0));
+        d *= alpha;
+      } else if (model == DiffractionModel::exact) {
         d = sommerfeld_field(v.k_r, v.polar.theta, v.polar.theta0, alpha);
         if (!in_shadow(v.polar)) d -= go1;
         if (!beyond_reflection(v.polar)) d -= alpha * std::polar(1.0, -v.k_r * std::cos(v.polar.theta + v.polar.theta0));
@@ -642,7 +684,9 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     const std::size_t around[4] = {i > 0 ? n - 1 : n, i + 1 < geo.nx ? n + 1 : n, j > 0 ? n - geo.nx : n,
                                    j + 1 < geo.ny ? n + geo.nx : n};
     for (std::size_t m : around) {
-      if (has_wave[m] || !(depths[m] > 0.0f) || depths[m] > rays.min_depth) continue;
+      // (With the parabolic model also the water nodes next to its waterline that its grid leaves out.)
+      if (has_wave[m] || !(depths[m] > 0.0f) || (depths[m] > rays.min_depth && !marched)) continue;
+      if (near_wall[m] && crosses_wall(n, m)) continue;
       has_wave[m] = 1;
       queue.push_back(std::uint32_t(m));
       // The wave keeps its direction; its phase advances by the mean k of both nodes; relative to

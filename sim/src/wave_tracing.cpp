@@ -120,6 +120,29 @@ bool train_needs_rays(const Scene& scene, std::size_t train) noexcept {
   return !(floor.min_depth_bound(scene.domain) >= l0);
 }
 
+TrainModel scene_wave_model(const Scene& scene) noexcept {
+  switch (scene.wave_model.kind) {
+    case WaveModelKind::rays: return {WaveModelKind::rays, "wave_model.kind = \"rays\""};
+    case WaveModelKind::parabolic: return {WaveModelKind::parabolic, "wave_model.kind = \"parabolic\""};
+    case WaveModelKind::automatic: break;
+  }
+  const SeaFloor& f = scene.floor;
+  if (!f.shoals.empty() || !f.bars.empty() || !f.channels.empty() || f.height_map) {
+    return {WaveModelKind::parabolic,
+            "auto: shoals, bars, channels or a height map make rays cross, where ray amplitudes are capped, not computed"};
+  }
+  return {WaveModelKind::rays, "auto: over a flat floor or a plane beach rays do not cross, and diffraction is exact"};
+}
+
+std::string_view wave_model_name(WaveModelKind kind) noexcept {
+  switch (kind) {
+    case WaveModelKind::rays: return "rays";
+    case WaveModelKind::parabolic: return "parabolic";
+    case WaveModelKind::automatic: return "auto";
+  }
+  return "?";
+}
+
 DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& settings) noexcept {
   DwtBound b;
   b.rays = settings.max_rays;

@@ -99,7 +99,8 @@ TEST(RandomScenes, FiniteBoundedAndNoEnergyCreated) {
   long skipped = 0;
   std::size_t traced = 0;
   for (int i = 0; i < scene_count; ++i) {
-    const houle::Scene scene = random_scene(r);
+    houle::Scene scene = random_scene(r);
+    scene.wave_model.kind = houle::WaveModelKind(i % 3);  // rays, parabolic, auto in turn
     const houle::Expected<houle::Scene> valid = houle::validate(scene);
     ASSERT_TRUE(valid) << "scene " << i << ": " << valid.error().field << ": " << valid.error().message;
     const houle::Expected<houle::WaveField> field = houle::trace_wave_field(scene, 2);
@@ -209,6 +210,9 @@ TEST(RandomScenes, AnObstacleChangesNothingUpstreamBeyondWhatItSendsBack) {
       radius = sh.semi_axis_a;
     }
     ASSERT_TRUE(houle::validate(with)) << "scene " << i;
+    // Each model against itself (docs/physics.md 11): rays for even scenes, the parabolic model for odd.
+    const houle::WaveModelKind kind = i % 2 ? houle::WaveModelKind::parabolic : houle::WaveModelKind::rays;
+    base.wave_model.kind = with.wave_model.kind = kind;
     const auto sea_of = [](const houle::Scene& s) {
       const houle::Expected<houle::WaveField> f = houle::trace_wave_field(s, 2);
       EXPECT_TRUE(f);
@@ -229,7 +233,7 @@ TEST(RandomScenes, AnObstacleChangesNothingUpstreamBeyondWhatItSendsBack) {
         ++compared;
       }
     }
-    std::printf("scene %d: %s, upstream change %.4f of the incident amplitude\n", i,
+    std::printf("scene %d (%s): %s, upstream change %.4f of the incident amplitude\n", i, i % 2 ? "parabolic" : "rays",
                 wall ? ("wall, alpha " + std::to_string(alpha)).c_str() : "shoal", worst);
     if (wall) {
       EXPECT_LE(worst, alpha + 0.15) << "scene " << i;

@@ -17,6 +17,7 @@
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/wave_rays.hpp"
 #include "angles.hpp"
+#include "beach_scene.hpp"
 
 namespace {
 
@@ -82,26 +83,7 @@ Scene flat_scene() {
   return s;
 }
 
-// Planar beach, contours along x, shore to the north beyond the domain (10 m deep at y = 0, 2 m at
-// y = 400), a narrow oblique front that enters through the southern edge only.
-Scene beach_scene(double direction_deg, double step) {
-  Scene s;
-  s.domain = {0.0, 0.0, 800.0, 400.0};
-  s.floor.base.kind = houle::FloorKind::planar_beach;
-  s.floor.base.depth = 12.0;
-  s.floor.base.slope = 0.02;
-  s.floor.base.shoreward_deg = 90.0;
-  s.floor.base.shoreline = {0.0, 500.0};
-  houle::WaveTrain t;
-  t.direction_deg = direction_deg;
-  t.period = 8.0;
-  t.amplitude = 0.05;
-  s.trains = {t};
-  s.dwt.front_width = 100.0;
-  s.dwt.step = step;
-  s.camera.position = {400.0, -10.0, 5.0};
-  return s;
-}
+using houle_test::beach_scene;
 
 Scene shoal_scene(double height) {
   Scene s;

@@ -96,6 +96,9 @@ BreakwaterPolar breakwater_polar(const BreakwaterFrame& frame, double x, double 
 /// e^{-i k r cos theta} for alpha = 1). Agrees with scipy-based evaluation to 2e-15 for r < 10 L and
 /// 3e-14 up to 300 L: the plane-wave phase k r cos(.) carries an unavoidable error of ~k r 1e-16 rad.
 std::complex<double> sommerfeld_field(double k_r, double theta, double theta0, double alpha) noexcept;
+/// Its part proportional to alpha (sommerfeld_field is linear in alpha): the reflected wave with its
+/// diffraction, for a model that carries the incident wave by other means (the parabolic model).
+std::complex<double> sommerfeld_reflected(double k_r, double theta, double theta0) noexcept;
 
 /// The same with the Fresnel auxiliary functions from the A&S 7.3.32-33 rational fits and the
 /// complex arithmetic in float; angles and phases are formed and reduced modulo 2 pi in double

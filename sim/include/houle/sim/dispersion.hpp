@@ -52,6 +52,15 @@ LinearWave linear_wave(double omega, double depth) noexcept;
 /// The same from a nearby kh (warm start, see solve_kh).
 LinearWave linear_wave(double omega, double depth, double kh_guess) noexcept;
 
+/// Wavenumber (rad/m) of a wave of amplitude `amplitude` (m) at `depth` (m) by Kirby & Dalrymple's
+/// (1986) composite dispersion relation, which the parabolic model uses (docs/physics.md 11.3):
+///   omega^2 = g k (1 + f1 (kA)^2 D) tanh(kh + f2 kA),   f1 = tanh^5 kh,   f2 = (kh / sinh kh)^4,
+///   D = (cosh 4kh + 8 - 2 tanh^2 kh) / (8 sinh^4 kh):
+/// Stokes' third order in deep and intermediate water (omega^2 = g k (1 + (kA)^2) in deep water),
+/// Hedges' tanh k(h + A) in shallow water. `k_linear` is the linear root at that depth (the start of
+/// the iteration); the result lies in (0, k_linear], k_linear for amplitude <= 0. 0 on land.
+double amplitude_dispersion_k(double omega, double depth, double amplitude, double k_linear) noexcept;
+
 /// Deep-water wavenumber k0 = omega^2 / g, rad/m.
 inline double deep_water_wavenumber(double omega) noexcept { return omega * omega / gravity; }
 

@@ -209,6 +209,29 @@ struct DwtSettings {
   OnCap on_cap = OnCap::error;            ///< warn: the truncated field is kept and every command says so
 };
 
+// ---- Wave model ----------------------------------------------------------------------------------
+
+/// How a traced train's field is computed (docs/physics.md 11; rays are traced in every case: they
+/// give the wall reflections and the carrier's entry).
+enum class WaveModelKind : std::uint8_t {
+  rays,       ///< geometric optics, each pierhead's diffracted wave added (docs/physics.md 2, 4.7)
+  parabolic,  ///< a wide-angle parabolic mild-slope model marched along the train: refraction and
+              ///< diffraction together, amplitude dispersion, breaking
+  automatic,  ///< parabolic over a floor whose rays cross (shoals, bars, channels, a height map), rays
+              ///< over flat floors and plane beaches (where they are exact)
+};
+
+struct WaveModel {
+  WaveModelKind kind = WaveModelKind::automatic;
+  /// Parabolic model: grid points per wavelength across the march, at the shortest wavelength it
+  /// resolves (where the deep-water wave would break, or at dwt's min depth).
+  double points_per_wavelength = 10.0;
+  /// Parabolic model: march steps per wavelength of the row's mean wave.
+  double steps_per_wavelength = 8.0;
+  /// Parabolic model: the wavenumber depends on the local amplitude (Kirby & Dalrymple 1986).
+  bool amplitude_dispersion = true;
+};
+
 // ---- The scene -----------------------------------------------------------------------------------
 
 /// What `validate` accepts at most: together they bound the memory and time of a scene build
@@ -238,6 +261,7 @@ struct Scene {
   ViewCamera camera{};
   Water water{};
   DwtSettings dwt{};
+  WaveModel wave_model{};
 };
 
 /// The scene unchanged if it is valid; otherwise the first problem, e.g.

@@ -67,7 +67,7 @@ template <class S>
 using Member = std::variant<double S::*, std::optional<double> S::*, int S::*, std::uint32_t S::*, bool S::*,
                             Point2 S::*, std::optional<Point2> S::*, Point3 S::*, LinearRgb S::*,
                             std::vector<Point2> S::*, std::string S::*, FloorKind S::*, HeightMapMode S::*,
-                            DiffractionModel S::*, OnCap S::*>;
+                            DiffractionModel S::*, OnCap S::*, WaveModelKind S::*>;
 
 template <class S>
 struct Key {
@@ -112,6 +112,7 @@ extern const Section<Sky> sky;
 extern const Section<ViewCamera> camera;
 extern const Section<Water> water;
 extern const Section<DwtSettings> dwt;
+extern const Section<WaveModel> wave_model;
 
 /// Calls visit(section) for every section, in the order of docs/scenes.md.
 template <class Visit>
@@ -132,6 +133,7 @@ void for_each_section(Visit&& visit) {
   visit(camera);
   visit(water);
   visit(dwt);
+  visit(wave_model);
 }
 
 /// The key `name` of a section (which must have it).

@@ -42,7 +42,14 @@ struct TrainField {
   std::vector<float> diffraction;
   /// With SeaParts::keep, per node the amplitude (m) of each part of B before the breaking cap: the
   /// incident rays, the pierheads' diffracted waves, the reflected waves. Only probe() reads them.
+  /// With the parabolic model the incident part is the marched field (the incident wave refracted and
+  /// diffracted) and the diffracted part that of the reflected waves at the pierheads.
   std::vector<float> incident, diffracted, reflected;
+  /// Which model gave the incident field (rays for analytic trains); the parabolic model's march grid
+  /// (nodes) and the shortest wavelength it resolves (m).
+  WaveModelKind model = WaveModelKind::rays;
+  std::uint64_t model_nodes = 0;
+  double resolved_wavelength = 0.0;
 };
 
 /// Whether SeaSurface::build keeps each train's parts for probe() (memory the frames never read).

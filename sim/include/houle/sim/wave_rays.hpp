@@ -62,6 +62,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "houle/runtime/assert.hpp"
@@ -188,6 +189,16 @@ struct WaveField {
 /// floor is uniform or deep everywhere in the domain (depth >= L0 / 2: C within 0.2 % of deep water),
 /// where crests are straight and the phase is analytic.
 bool train_needs_rays(const Scene& scene, std::size_t train) noexcept;
+/// Which model fills the traced trains' fields (scene.wave_model, `auto` resolved), and why: the
+/// effect plan reports both (docs/physics.md 11.6).
+struct TrainModel {
+  WaveModelKind kind = WaveModelKind::rays;  ///< rays or parabolic
+  std::string_view why;
+};
+TrainModel scene_wave_model(const Scene& scene) noexcept;
+/// "rays", "parabolic" or "auto": the scene file's names.
+std::string_view wave_model_name(WaveModelKind kind) noexcept;
+
 /// Effect plan: is there any diffraction work for the sea surface (a wall end in water inside the
 /// domain, diffraction on)?
 bool scene_has_pierheads(const Scene& scene) noexcept;
