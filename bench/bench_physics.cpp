@@ -238,6 +238,27 @@ void bm_trace_knob(benchmark::State& state) {
   set_dwt_counters(state, stats);
 }
 
+// The whole scene build a user waits for (trace, then the sea surface at realtime's 0.5 m cells) with
+// each wave model (docs/physics.md 10.6), on range(0) threads.
+void bm_scene_build(benchmark::State& state, SceneId id, houle::WaveModelKind kind) {
+  houle::Scene s = scene(id);
+  s.wave_model.kind = kind;
+  const auto threads = unsigned(state.range(0));
+  for (auto _ : state) {
+    houle::Expected<houle::WaveField> f = houle::trace_wave_field(s, threads);
+    if (!f) {
+      state.SkipWithError(f.error().message.c_str());
+      return;
+    }
+    houle::Expected<houle::SeaSurface> sea = houle::SeaSurface::build(s, f.value(), 0.5f, houle::SeaParts::drop, threads);
+    if (!sea) {
+      state.SkipWithError(sea.error().message.c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(sea.value().grids().data());
+  }
+}
+
 // Traced once per scene and kept: SeaSurface::build's input.
 const houle::WaveField* traced(SceneId id) {
   static std::map<SceneId, std::unique_ptr<houle::WaveField>> cache;
@@ -356,6 +377,15 @@ const bool registered = [] {
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
     benchmark::RegisterBenchmark(("sea_surface_eval/" + std::string(scene_name(id))).c_str(), bm_sea_eval, id);
+    for (const houle::WaveModelKind kind : {houle::WaveModelKind::rays, houle::WaveModelKind::parabolic}) {
+      benchmark::RegisterBenchmark(("scene_build/" + std::string(scene_name(id)) + "/" + std::string(houle::wave_model_name(kind))).c_str(),
+                                   bm_scene_build, id, kind)
+          ->ArgName("threads")
+          ->Arg(1)
+          ->Arg(2)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
   }
   return true;
 }();

@@ -3,6 +3,9 @@
 //   beach, shoaling, the jetty's diffraction): the resampled sea (realtime's sea_cell) against the
 //   one traced with the knob 8x (step) or 4x (insertion) finer, as RMS height in m over the domain
 //   at a few times and RMS amplitude per train in m; the time is the trace (one thread).
+// - The wave model (rays, or the parabolic model at several resolutions) against the laboratory
+//   measurements of Berkhoff, Booy & Radder (1982): RMS of H/H0 over the 208 points and the worst
+//   section's RMS; the time is the whole build (trace and sea surface, one thread).
 // - Diffraction models against the exact Sommerfeld solution (itself checked against scipy to 2e-15,
 //   diffraction.hpp): mean and max |K - K_exact| over r/L in [0.5, 10], every angle; ns per
 //   coefficient. The float A&S path (sommerfeld_field_fg, the candidate for a float kernel) is a
@@ -22,6 +25,7 @@
 #include "houle/sim/scene.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "houle/sim/wave_rays.hpp"
+#include "berkhoff_shoal.hpp"
 #include "sweep.hpp"
 
 namespace houle::accuracy {
@@ -133,6 +137,71 @@ void sweep_dwt(const Options& o, std::vector<Row>& rows) {
   }
 }
 
+// ---- Wave model on the elliptic shoal --------------------------------------------------------------
+
+void sweep_wave_model(const Options& o, std::vector<Row>& rows) {
+  const std::vector<houle_test::BerkhoffPoint> points = houle_test::berkhoff_measurements(HOULE_TEST_DATA_DIR);
+  if (points.empty()) fail({"berkhoff1982_sections.csv", "cannot read the measurements"});
+  struct Variant {
+    const char* name;
+    double value;  ///< the CSV's value column: an index, named in `presets`
+    WaveModelKind kind;
+    double points_per_wavelength;
+    bool amplitude_dispersion;
+  };
+  const Variant variants[] = {
+      {"rays", 0, WaveModelKind::rays, 10.0, true},
+      {"parabolic_linear", 1, WaveModelKind::parabolic, 10.0, false},
+      {"parabolic_ppw4", 2, WaveModelKind::parabolic, 4.0, true},
+      {"parabolic_ppw6", 3, WaveModelKind::parabolic, 6.0, true},
+      {"parabolic", 4, WaveModelKind::parabolic, 10.0, true},
+      {"parabolic_ppw16", 5, WaveModelKind::parabolic, 16.0, true},
+  };
+  const int runs = o.smoke ? 1 : 3;
+  for (const Variant& v : variants) {
+    if (o.smoke && v.kind == WaveModelKind::rays) continue;
+    Scene scene = houle_test::berkhoff_scene(v.kind);
+    scene.wave_model.points_per_wavelength = v.points_per_wavelength;
+    scene.wave_model.amplitude_dispersion = v.amplitude_dispersion;
+    std::vector<double> ms;
+    Expected<SeaSurface> sea = Error{"", ""};
+    for (int i = 0; i < runs; ++i) {
+      const auto t0 = Clock::now();
+      Expected<WaveField> f = trace_wave_field(scene, 1);
+      if (!f) fail(f.error());
+      sea = SeaSurface::build(scene, f.value(), quality_preset(QualityPreset::realtime).sea_cell);
+      if (!sea) fail(sea.error());
+      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+    double all = 0.0, worst_section = 0.0;
+    for (int section = 1; section <= 8; ++section) {
+      double sum = 0.0;
+      int count = 0;
+      for (const houle_test::BerkhoffPoint& p : points) {
+        if (p.section != section) continue;
+        const double e = sea.value().probe(0, float(p.x), float(p.y)).amplitude / houle_test::berkhoff_amplitude - p.relative;
+        sum += e * e;
+        ++count;
+      }
+      all += sum;
+      if (count) worst_section = std::max(worst_section, std::sqrt(sum / count));
+    }
+    Row r;
+    r.knob = "wave_model";
+    r.value = v.value;
+    r.presets = v.name;
+    r.time = median(ms);
+    r.time_what = "scene build, 1 thread (ms)";
+    r.error = std::sqrt(all / double(points.size()));
+    r.error_what = "RMS of H/H0";
+    r.error2 = worst_section;
+    r.error2_what = "worst section's RMS";
+    r.reference = "Berkhoff, Booy & Radder (1982), 208 measured points on 8 sections (tests/data)";
+    std::fprintf(stderr, "wave model %s: %.0f ms, RMS %.3f, worst section %.3f\n", v.name, r.time, r.error, worst_section);
+    rows.push_back(std::move(r));
+  }
+}
+
 // ---- Diffraction models --------------------------------------------------------------------------
 
 struct Point {
@@ -196,6 +265,7 @@ void sweep_diffraction(const Options& o, std::vector<Row>& rows) {
 std::vector<Row> sweep_physics_knobs(const Options& o) {
   std::vector<Row> rows;
   if (o.only.empty() || o.only == "diffraction.model") sweep_diffraction(o, rows);
+  if (o.only.empty() || o.only == "wave_model") sweep_wave_model(o, rows);
   sweep_dwt(o, rows);
   return rows;
 }

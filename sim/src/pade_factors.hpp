@@ -1,6 +1,6 @@
 // Functions of an operator X as products of first-degree rational factors,
 //   f(X) ~ scale * prod_j (1 + num_j X) / (1 + den_j X),
-// for the parabolic wave model (docs/physics.md 11): with X tridiagonal, each factor costs one
+// for the parabolic wave model (docs/physics.md 10): with X tridiagonal, each factor costs one
 // tridiagonal product and one tridiagonal solve. The factors come from the [m/m] Pade approximant of f,
 // taken about X = e^{i alpha} - 1 instead of 0 when alpha != 0 (a "rotated" approximant: Milinazzo,
 // Zala & Brooke 1997): the functions here have a branch point at X = -1, where evanescent waves begin,

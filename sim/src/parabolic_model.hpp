@@ -1,4 +1,4 @@
-// The parabolic mild-slope model of one train (docs/physics.md 11): the complex amplitude of the
+// The parabolic mild-slope model of one train (docs/physics.md 10): the complex amplitude of the
 // train's frequency marched row by row along its direction of travel over the scene's floor, so that
 // refraction, shoaling and diffraction come out together, once per scene. The sea surface reads the
 // result in place of the rays' incident field and the pierheads' diffracted waves (sea_surface.hpp).

@@ -354,7 +354,7 @@ constexpr Section<WaveModel> wave_model{
     "wave_model", false, "which model computes each traced train's field",
     "Rays are traced in every case (they give the walls' reflected waves). Over a floor whose rays cross, "
     "behind a shoal or round an island, rays can only cap their amplitudes; the parabolic model marches the "
-    "wave itself. `docs/physics.md` 11 describes it, `docs/accuracy.md` compares both.",
+    "wave itself. `docs/physics.md` 10 describes it, `docs/accuracy.md` compares both.",
     wave_model_keys, [](Scene& s) -> WaveModel& { return s.wave_model; }};
 
 }  // namespace houle::scene_keys

@@ -389,7 +389,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
   incident.splat(geo, g, rays, [](std::size_t) { return true; }, radius, walls);
   // The parabolic model's field replaces the incident rays and the pierheads' diffraction of the
   // incident wave (it diffracts by itself); the rays still seed the carrier, give the reflected waves
-  // and K''s reference (docs/physics.md 11.6).
+  // and K''s reference (docs/physics.md 10.6).
   std::optional<detail::ParabolicField> marched;
   if (scene_wave_model(scene).kind == WaveModelKind::parabolic) {
     detail::ParabolicTrain pt = detail::parabolic_train(scene, floor, t);

@@ -210,7 +210,7 @@ TEST(RandomScenes, AnObstacleChangesNothingUpstreamBeyondWhatItSendsBack) {
       radius = sh.semi_axis_a;
     }
     ASSERT_TRUE(houle::validate(with)) << "scene " << i;
-    // Each model against itself (docs/physics.md 11): rays for even scenes, the parabolic model for odd.
+    // Each model against itself (docs/physics.md 10): rays for even scenes, the parabolic model for odd.
     const houle::WaveModelKind kind = i % 2 ? houle::WaveModelKind::parabolic : houle::WaveModelKind::rays;
     base.wave_model.kind = with.wave_model.kind = kind;
     const auto sea_of = [](const houle::Scene& s) {

@@ -3,7 +3,7 @@
 // the wall), a detached breakwater and a harbour gap (superpositions of semi-infinite solutions, the
 // standard engineering approximation). K is measured as an observer would: from the surface heights
 // over one period at each point (sine profile, steepness 0), divided by the incident amplitude.
-// Each case prints its error table (max, mean); docs/physics.md 10 quotes them.
+// Each case prints its error table (max, mean); docs/physics.md 4.7 and 10.4 quote them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -153,7 +153,7 @@ INSTANTIATE_TEST_SUITE_P(AlphaAndIncidence, SemiInfiniteBreakwater,
 
 class SemiInfiniteBreakwaterParabolic : public ::testing::TestWithParam<std::tuple<double, double>> {};
 
-// The same walls and waves with the parabolic model (docs/physics.md 11.4), which marches the wave
+// The same walls and waves with the parabolic model (docs/physics.md 10.4), which marches the wave
 // along its direction of travel and so is exact only near that direction: its error is stated by the
 // angle between the point's direction from M and the train's, within 45 deg and beyond.
 TEST_P(SemiInfiniteBreakwaterParabolic, MatchesSommerfeldNearTheMarchDirection) {
@@ -181,7 +181,7 @@ TEST_P(SemiInfiniteBreakwaterParabolic, MatchesSommerfeldNearTheMarchDirection) 
               "beyond max %.3f mean %.3f (%d), wave side max %.3f mean %.3f (%d)\n",
               alpha, direction, narrow.max, narrow.mean(), narrow.count, wide.max, wide.mean(), wide.count, wave_side.max,
               wave_side.mean(), wave_side.count);
-  // Stated in docs/physics.md 11.4 (measured up to 0.101 / 0.026, 0.134 / 0.045, 0.120 / 0.037).
+  // Stated in docs/physics.md 10.4 (measured up to 0.101 / 0.026, 0.134 / 0.045, 0.120 / 0.037).
   EXPECT_LT(narrow.max, 0.12);
   EXPECT_LT(narrow.mean(), 0.03);
   EXPECT_LT(wide.max, 0.15);

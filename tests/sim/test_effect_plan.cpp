@@ -144,3 +144,31 @@ TEST(EffectPlan, EachStageFollowsWhatTheSceneHas) {
 }
 
 }  // namespace
+
+// The wave model: auto marches the parabolic model only over floors whose rays cross, and the sea
+// surface does what the plan says (docs/physics.md 10.6).
+TEST(EffectPlan, AutoMarchesTheParabolicModelOnlyWhereRaysCross) {
+  Scene beach = deep_flat_sea();
+  beach.floor.base = {houle::FloorKind::planar_beach, 12.0, 0.05, 90.0, {0.0, 150.0}};
+  Scene shoal = beach;
+  shoal.floor.shoals.push_back(houle::Shoal{{50.0, 50.0}, 10.0, 10.0, 0.0, 4.0});
+  const houle::EffectPlan on_beach = houle::plan_effects(beach, realtime), on_shoal = houle::plan_effects(shoal, realtime);
+  EXPECT_EQ(on_beach.wave_model.kind, houle::WaveModelKind::rays);
+  EXPECT_EQ(on_shoal.wave_model.kind, houle::WaveModelKind::parabolic);
+  EXPECT_NE(on_shoal.wave_model.why.find("auto"), std::string_view::npos);
+  for (const Scene* s : {&beach, &shoal}) {
+    const auto f = houle::trace_wave_field(*s);
+    ASSERT_TRUE(f.ok());
+    const auto sea = houle::SeaSurface::build(*s, f.value(), 1.0f);
+    ASSERT_TRUE(sea.ok());
+    for (const houle::TrainField& t : sea->trains()) {
+      EXPECT_EQ(t.model, houle::plan_effects(*s, realtime).wave_model.kind);
+      EXPECT_EQ(t.model_nodes > 0, t.model == houle::WaveModelKind::parabolic);
+    }
+  }
+  // Chosen explicitly, each model is used whatever the floor.
+  beach.wave_model.kind = houle::WaveModelKind::parabolic;
+  shoal.wave_model.kind = houle::WaveModelKind::rays;
+  EXPECT_EQ(houle::plan_effects(beach, realtime).wave_model.kind, houle::WaveModelKind::parabolic);
+  EXPECT_EQ(houle::plan_effects(shoal, realtime).wave_model.kind, houle::WaveModelKind::rays);
+}

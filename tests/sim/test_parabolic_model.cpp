@@ -1,4 +1,4 @@
-// The parabolic model (docs/physics.md 11) against the laboratory experiment of Berkhoff, Booy &
+// The parabolic model (docs/physics.md 10) against the laboratory experiment of Berkhoff, Booy &
 // Radder (1982) and against linear theory on a plane beach (Snell and shoaling). The semi-infinite
 // breakwater against Sommerfeld is in test_coastal_oracles.cpp with the rays' cases.
 #include <gtest/gtest.h>
@@ -41,7 +41,7 @@ SectionErrors berkhoff_errors(houle::WaveModelKind kind) {
   auto sea = houle::SeaSurface::build(scene, *field, 0.5f);
   EXPECT_TRUE(sea.ok());
   SectionErrors e;
-  for (const houle_test::BerkhoffPoint& p : houle_test::berkhoff_measurements()) {
+  for (const houle_test::BerkhoffPoint& p : houle_test::berkhoff_measurements(HOULE_TEST_DATA_DIR)) {
     const double relative = sea->probe(0, float(p.x), float(p.y)).amplitude / houle_test::berkhoff_amplitude;
     e.add(p.section, relative - p.relative);
   }
@@ -55,7 +55,7 @@ SectionErrors berkhoff_errors(houle::WaveModelKind kind) {
 
 // The bounds: RMS over all sections at most 0.15, no section above 0.25, with the parabolic
 // model and with auto (which picks it over a height map). Rays cannot: behind the focus their
-// caustic arms sit where the measured minima are (docs/physics.md 11.5).
+// caustic arms sit where the measured minima are (docs/physics.md 10.5).
 TEST(ParabolicModel, BerkhoffShoalWithinTheMeasurements) {
   for (const houle::WaveModelKind kind : {houle::WaveModelKind::parabolic, houle::WaveModelKind::automatic}) {
     const SectionErrors e = berkhoff_errors(kind);
@@ -69,7 +69,7 @@ TEST(ParabolicModel, BerkhoffShoalWithinTheMeasurements) {
 // A plane beach (contours along x, depth 2-10 m over the domain), a train 30 deg off the shore's
 // normal: linear theory's Snell (sin a / C conserved) and shoaling with refraction (A = A0 Ks Kr),
 // within 1 % (measured 0.95 % and 0.44 %: the march's rows cross the contours obliquely, and what it
-// then neglects leaves a ripple of about 1 % in the phase, docs/physics.md 11.4). Amplitude dispersion
+// then neglects leaves a ripple of about 1 % in the phase, docs/physics.md 10.4). Amplitude dispersion
 // is off: the oracle is linear.
 TEST(ParabolicModel, PlaneBeachFollowsSnellAndShoaling) {
   houle::Scene s = houle_test::beach_scene(60.0, 0.4);
@@ -96,7 +96,7 @@ TEST(ParabolicModel, PlaneBeachFollowsSnellAndShoaling) {
   for (double y = 20.0; y <= 380.0; y += 20.0) {
     // Where the wave at (x, y) came into the domain through its southern edge, along Snell's ray
     // (dx/dy = tan a); points whose wave came in through the western edge, across the floor the march
-    // assumes outside the domain (its nearest point's), are not this oracle's (docs/physics.md 11.4).
+    // assumes outside the domain (its nearest point's), are not this oracle's (docs/physics.md 10.4).
     double x_entry = 0.0;
     for (double yy = 0.0; yy < y; yy += 1.0) {
       const double sin_a = q0 * houle::linear_wave(omega, floor.depth(0.0, yy + 0.5)).c;

@@ -53,7 +53,7 @@ LinearWave linear_wave(double omega, double depth) noexcept;
 LinearWave linear_wave(double omega, double depth, double kh_guess) noexcept;
 
 /// Wavenumber (rad/m) of a wave of amplitude `amplitude` (m) at `depth` (m) by Kirby & Dalrymple's
-/// (1986) composite dispersion relation, which the parabolic model uses (docs/physics.md 11.3):
+/// (1986) composite dispersion relation, which the parabolic model uses (docs/physics.md 10.3):
 ///   omega^2 = g k (1 + f1 (kA)^2 D) tanh(kh + f2 kA),   f1 = tanh^5 kh,   f2 = (kh / sinh kh)^4,
 ///   D = (cosh 4kh + 8 - 2 tanh^2 kh) / (8 sinh^4 kh):
 /// Stokes' third order in deep and intermediate water (omega^2 = g k (1 + (kA)^2) in deep water),

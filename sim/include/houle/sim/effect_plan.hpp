@@ -21,7 +21,7 @@ struct EffectPlan {
   /// of null dereferences in vector<bool>).
   std::vector<std::uint8_t> train_rays;
   bool ray_tracing = false;      ///< some train is traced
-  /// What computes the traced trains' fields (rays or the parabolic model), and why (docs/physics.md 11.6).
+  /// What computes the traced trains' fields (rays or the parabolic model), and why (docs/physics.md 10.6).
   TrainModel wave_model;
   bool diffraction = false;      ///< a pierhead in water meets a traced train (DwtSettings::diffraction on)
   bool wall_reflection = false;  ///< a wall with alpha > 0 meets a traced train

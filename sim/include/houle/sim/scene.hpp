@@ -211,7 +211,7 @@ struct DwtSettings {
 
 // ---- Wave model ----------------------------------------------------------------------------------
 
-/// How a traced train's field is computed (docs/physics.md 11; rays are traced in every case: they
+/// How a traced train's field is computed (docs/physics.md 10; rays are traced in every case: they
 /// give the wall reflections and the carrier's entry).
 enum class WaveModelKind : std::uint8_t {
   rays,       ///< geometric optics, each pierhead's diffracted wave added (docs/physics.md 2, 4.7)

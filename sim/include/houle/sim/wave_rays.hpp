@@ -190,7 +190,7 @@ struct WaveField {
 /// where crests are straight and the phase is analytic.
 bool train_needs_rays(const Scene& scene, std::size_t train) noexcept;
 /// Which model fills the traced trains' fields (scene.wave_model, `auto` resolved), and why: the
-/// effect plan reports both (docs/physics.md 11.6).
+/// effect plan reports both (docs/physics.md 10.6).
 struct TrainModel {
   WaveModelKind kind = WaveModelKind::rays;  ///< rays or parabolic
   std::string_view why;

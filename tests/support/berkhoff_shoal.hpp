@@ -1,13 +1,16 @@
 // The elliptic-shoal experiment of Berkhoff, Booy & Radder (1982) as a houle scene, and its 208
-// measured amplitudes (tests/data/berkhoff1982_sections.csv, with their source). docs/physics.md 11.5.
+// measured amplitudes (tests/data/berkhoff1982_sections.csv, with their source). docs/physics.md 10.5.
+// The tests and the accuracy sweeps (bench/accuracy) share it.
 #pragma once
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene.hpp"
-#include "test_vectors.hpp"
 
 namespace houle_test {
 
@@ -54,7 +57,7 @@ inline houle::Scene berkhoff_scene(houle::WaveModelKind model) {
   t.steepness = 0.0;
   s.trains = {t};
   s.capillary.amplitude = 0.0;
-  // Rays fine enough for the shoal (finer changes nothing: docs/physics.md 11.5).
+  // Rays fine enough for the shoal (finer changes nothing: docs/physics.md 10.5).
   s.dwt.step = 0.1;
   s.dwt.insertion_distance = 0.25;
   s.wave_model.kind = model;
@@ -67,10 +70,25 @@ struct BerkhoffPoint {
   double relative;  // H / H0
 };
 
-inline std::vector<BerkhoffPoint> berkhoff_measurements() {
+/// The measurements from `data_dir`/berkhoff1982_sections.csv (comment lines, a header, then
+/// section, x, y, amplitude in mm); empty if the file cannot be read.
+inline std::vector<BerkhoffPoint> berkhoff_measurements(const std::string& data_dir) {
   std::vector<BerkhoffPoint> points;
-  for (const std::vector<double>& r : numeric_rows(read_test_vectors("berkhoff1982_sections.csv"))) {
-    points.push_back({int(r[0]), r[1], r[2], r[3] / (1000.0 * berkhoff_amplitude)});
+  std::ifstream f(data_dir + "/berkhoff1982_sections.csv");
+  bool header = true;
+  for (std::string line; std::getline(f, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header) {
+      header = false;
+      continue;
+    }
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream row(line);
+    BerkhoffPoint p{};
+    double amplitude_mm = 0.0;
+    row >> p.section >> p.x >> p.y >> amplitude_mm;
+    p.relative = amplitude_mm / (1000.0 * berkhoff_amplitude);
+    points.push_back(p);
   }
   return points;
 }
