@@ -495,6 +495,7 @@ int farm_slurm(std::span<char* const> argv) {
   if (!chunk && !args.failed()) args.fail("--chunk N (frames per array task) is required");
   if (int(dry_run) + int(submit_it) + int(local.has_value()) > 1) args.fail("--dry-run, --submit and --local exclude each other");
   if (raw && *raw == "-") args.fail("--raw needs a file: the tasks' parts are joined into it");
+  if (o.y4m) args.fail("--y4m is one stream behind one header: farm --raw frames, then convert them");
   for (const char* a : argv) {
     if (std::strchr(a, '\n') != nullptr) args.fail("an argument holds a line break, which the script cannot carry");
   }

@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# The data houle gives other tools: y4m streams into ffmpeg and ffprobe, EXR headers (deterministic,
+# camera matrices, frame and time) and AOV channels, houle map's grids, houle bench's JSON.
+# Usage: test_data_out.sh <houle binary> <source dir>
+set -uo pipefail
+houle=$1 src=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+pass=0 fail=0
+
+# expect <name> <exit code> <regex the output must match> <command...>
+expect() {
+  local name=$1 code=$2 pattern=$3; shift 3
+  local out rc
+  out=$("$@" 2>&1); rc=$?
+  if [ "$rc" -eq "$code" ] && grep -qE -- "$pattern" <<<"$out"; then
+    pass=$((pass + 1))
+  else
+    fail=$((fail + 1))
+    printf 'FAIL %s: exit %s (want %s), output:\n%s\n(want /%s/)\n' "$name" "$rc" "$code" "$out" "$pattern"
+  fi
+}
+# check <name> <command...>: passes when the command succeeds
+check() {
+  local name=$1; shift
+  local out
+  if out=$("$@" 2>&1); then pass=$((pass + 1)); else fail=$((fail + 1)); printf 'FAIL %s:\n%s\n' "$name" "$out"; fi
+}
+for tool in ffmpeg ffprobe oiiotool python3; do
+  command -v $tool >/dev/null || { echo "test_data_out: $tool is missing: run scripts/setup"; exit 1; }
+done
+render() { "$houle" render --size 64x36 --quality draft --quiet "$@"; }
+
+# ---- y4m -------------------------------------------------------------------------------------------
+# ffprobe reads the size, the rate, the subsampling and the range from the stream alone.
+probe_y4m() { ffprobe -v error -show_entries stream=width,height,r_frame_rate,pix_fmt,color_range -of csv=p=0 "$@"; }
+render --frames 3 --y4m - | probe_y4m - >"$work/probe.txt" 2>&1
+check y4m-ffprobe-420 grep -qx '64,36,yuv420p,tv,30/1' "$work/probe.txt"
+render --frames 3 --fps 29.97 --y4m "$work/clip444.y4m" --y4m-chroma 444
+probe_y4m "$work/clip444.y4m" >"$work/probe.txt" 2>&1
+check y4m-ffprobe-444 grep -qx '64,36,yuv444p,tv,30000/1001' "$work/probe.txt"
+# Into ffmpeg without a size or a rate (the README's and --help's example): H.264 in 4:2:0, every frame,
+# tagged BT.709 in limited range.
+render --frames 5 --y4m - | ffmpeg -v error -i - -colorspace bt709 -color_primaries bt709 -color_trc bt709 -y "$work/coast.mp4"
+ffprobe -v error -count_frames -show_entries stream=codec_name,width,height,pix_fmt,color_range,color_space,nb_read_frames \
+  -of csv=p=0 "$work/coast.mp4" >"$work/probe.txt" 2>&1
+check y4m-ffmpeg-mp4 grep -qx 'h264,64,36,yuv420p,tv,bt709,5' "$work/probe.txt"
+expect y4m-help 0 'houle render --frames 240 --y4m - \| ffmpeg -i - -colorspace bt709' "$houle" render --help
+# The planes are ffmpeg's own BT.709 limited-range conversion of the same frames' rgb24 codes, to
+# within its fixed-point rounding (one code).
+render --frames 2 --raw "$work/clip.rgb"
+ffmpeg -v error -f rawvideo -pix_fmt rgb24 -s 64x36 -i "$work/clip.rgb" \
+  -vf scale=out_color_matrix=bt709:out_range=tv:flags=accurate_rnd+full_chroma_int,format=yuv444p -f rawvideo -y "$work/ffmpeg.yuv"
+render --frames 2 --y4m "$work/clip2.y4m" --y4m-chroma 444
+check y4m-vs-ffmpeg python3 - "$work/clip2.y4m" "$work/ffmpeg.yuv" <<'PY'
+import sys
+y4m, ref = open(sys.argv[1], "rb").read(), open(sys.argv[2], "rb").read()
+header, rest = y4m.split(b"\n", 1)
+frames = rest.split(b"FRAME\n")[1:]
+assert len(frames) == 2 and all(len(f) == 64 * 36 * 3 for f in frames), "two 4:4:4 frames"
+ours = b"".join(frames)
+assert len(ours) == len(ref), (len(ours), len(ref))
+worst = max(abs(a - b) for a, b in zip(ours, ref))
+assert worst <= 1, f"off ffmpeg's conversion by {worst} codes"
+PY
+# --y4m is a stream like --raw: --skip-existing writes it whole; refused beside other outputs.
+render --frames 2 --y4m "$work/whole.y4m" --skip-existing
+check y4m-whole test "$(head -c 9 "$work/whole.y4m")" = YUV4MPEG2
+expect y4m-and-raw 2 'render: --y4m and --raw exclude each other' "$houle" render --y4m - --raw x.rgb
+expect y4m-and-out 2 'render: --y4m and --out exclude each other' "$houle" render --y4m - --out 'x%d.png'
+expect y4m-chroma 2 "render: --y4m-chroma expects 444 or 420, got '422'" "$houle" render --y4m - --y4m-chroma 422
+expect y4m-chroma-alone 2 'render: --y4m-chroma is for --y4m' "$houle" render --y4m-chroma 444 --raw -
+expect y4m-pixel-format 2 'render: --pixel-format is for --raw: --y4m writes' "$houle" render --y4m - --pixel-format rgba
+expect y4m-farm 2 'farm slurm: --y4m' "$houle" farm slurm --frames 0:9 --chunk 5 --y4m clip.y4m --dry-run
+
+# ---- EXR headers and AOVs ----------------------------------------------------------------------------
+cat >"$work/calm.toml" <<'TOML'
+[domain]
+x_max = 200.0
+y_max = 200.0
+[floor.base]
+depth = 50.0
+[[trains]]
+period = 5.0
+amplitude = 0.2
+[capillary]
+amplitude = 0.0
+[camera]
+position = [100.0, 10.0, 6.0]
+look_at = [100.0, 80.0, 0.0]
+TOML
+# Two renders of a frame are the same bytes (no date), EXR with AOVs and PNG alike.
+for ext in exr png; do
+  aov=(); [ $ext = exr ] && aov=(--aov z,normal,alpha,sea)
+  render "$work/calm.toml" --frames 7:7 --out "$work/a_%d.$ext" "${aov[@]}"
+  sleep 1.1  # a date in seconds would differ
+  render "$work/calm.toml" --frames 7:7 --out "$work/b_%d.$ext" "${aov[@]}"
+  check "deterministic-$ext" cmp "$work/a_7.$ext" "$work/b_7.$ext"
+done
+render "$work/calm.toml" --frames 7:7 --fps 24 --out "$work/c_%d.exr"
+check exr-header python3 "$src/tests/cli/check_exr_header.py" "$work/c_7.exr" 7 24/1 100,10,6 100,80,0
+check exr-header-aovs python3 "$src/tests/cli/check_exr_header.py" "$work/a_7.exr" 7 30/1 100,10,6 100,80,0
+expect exr-channels 0 'channel list: R \(half\), G \(half\), B \(half\), A \(half\), Z \(float\), .*N.X \(half\), N.Y \(half\), N.Z \(half\)' oiiotool --info -v "$work/a_7.exr"
+expect exr-channel-sea 0 'channel list: .*sea \(half\)' oiiotool --info -v "$work/a_7.exr"
+expect exr-no-aovs 0 'channel list: R, G, B$' oiiotool --info -v "$work/c_7.exr"
+# The AOVs agree with the image's own matrices: Z is the depth along the view axis of a point on the
+# sea (a 0.2 m train: within 0.25 m of z = 0), uncovered pixels have Z = inf and no normal.
+{ oiiotool --info -v "$work/a_7.exr"; oiiotool --dumpdata "$work/a_7.exr"; } >"$work/dump.txt"
+check exr-aovs python3 "$src/tests/cli/check_aovs.py" "$work/a_7.exr" "$work/dump.txt" 0.25
+render "$work/calm.toml" --frames 7:7 --out "$work/z_%d.exr" --aov z
+expect exr-aov-z 0 'channel list: R \(half\), G \(half\), B \(half\), Z \(float\)$' oiiotool --info -v "$work/z_7.exr"
+expect aov-png 2 "render: --aov needs EXR images \(--out NAME%04d.exr\): '.*x_%d.png' have no place for extra channels" "$houle" render --aov z --out "$work/x_%d.png"
+expect aov-raw 2 'render: --aov needs EXR images .*--raw frames have no place' "$houle" render --aov z --raw -
+expect aov-y4m 2 'render: --aov needs EXR images .*--y4m streams have no place' "$houle" render --aov alpha --y4m -
+expect aov-name 2 "render: --aov expects a list of z, normal, alpha and sea \(e.g. z,normal\), got 'depth'" "$houle" render --aov z,depth --out "$work/x_%d.exr"
+
+echo "data_out: ${pass} passed, ${fail} failed"
+[ "$fail" -eq 0 ]
