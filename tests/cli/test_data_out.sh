@@ -114,5 +114,77 @@ expect aov-raw 2 'render: --aov needs EXR images .*--raw frames have no place' "
 expect aov-y4m 2 'render: --aov needs EXR images .*--y4m streams have no place' "$houle" render --aov alpha --y4m -
 expect aov-name 2 "render: --aov expects a list of z, normal, alpha and sea \(e.g. z,normal\), got 'depth'" "$houle" render --aov z,depth --out "$work/x_%d.exr"
 
+# ---- houle map ---------------------------------------------------------------------------------------
+# A deep flat sea of two straight trains: every point has the trains' own amplitudes, K' = 1, no
+# reflection, the deep-water wavelengths g T^2 / 2 pi (39.03 and 14.05 m) and their directions, and
+# Hs = 4 sqrt((0.2^2 + 0.1^2) / 2) = 0.63246 m.
+cat >"$work/two.toml" <<'TOML'
+[domain]
+x_max = 200.0
+y_max = 200.0
+[floor.base]
+depth = 300.0
+[[trains]]
+period = 5.0
+amplitude = 0.2
+direction_deg = 60.0
+[[trains]]
+period = 3.0
+amplitude = 0.1
+[capillary]
+amplitude = 0.0
+TOML
+expect map-csv 0 'houle map: 3 x 3 points, 12 channels written to' "$houle" map "$work/two.toml" --grid 0:200:100,0:200:100 \
+  --fields depth,hs,amplitude,kd,reflected,wavelength,direction --out "$work/two.csv"
+check map-analytic python3 - "$work/two.csv" <<'PY'
+import csv, math, sys
+rows = list(csv.reader(open(sys.argv[1])))
+assert rows[0] == "x,y,depth,hs,amplitude.0,amplitude.1,kd.0,kd.1,reflected.0,reflected.1,wavelength.0,wavelength.1,direction.0,direction.1".split(","), rows[0]
+assert [(r[0], r[1]) for r in rows[1:]] == [(x, y) for y in ("0", "100", "200") for x in ("0", "100", "200")]
+want = [300, 4 * math.sqrt((0.2**2 + 0.1**2) / 2), 0.2, 0.1, 1, 1, 0, 0, 9.81 * 25 / (2 * math.pi), 9.81 * 9 / (2 * math.pi), 60, 90]
+for r in rows[1:]:
+    for got, w in zip(map(float, r[2:]), want):
+        assert abs(got - w) <= 1e-4 * max(1, abs(w)), (r, want)
+PY
+# On the built-in coast the map reads what houle probe reads at the same points.
+"$houle" map --grid 20:180:80,20:140:60 --fields depth,amplitude,kd,reflected,wavelength,direction --out "$work/coast.csv" 2>/dev/null
+"$houle" probe --at 20,20 --at 180,80 --at 100,140 --csv >"$work/probe.csv"
+check map-vs-probe python3 - "$work/coast.csv" "$work/probe.csv" <<'PY'
+import csv, sys
+m = {(r["x"], r["y"]): r for r in csv.DictReader(open(sys.argv[1]))}
+p = list(csv.DictReader(open(sys.argv[2])))
+assert len(p) == 9
+for r in p:
+    row, k = m[(r["x"], r["y"])], r["train"]
+    pairs = [("depth", "depth"), ("amplitude", f"amplitude.{k}"), ("diffraction", f"kd.{k}"), ("reflected", f"reflected.{k}"),
+             ("wavelength", f"wavelength.{k}"), ("direction_deg", f"direction.{k}")]
+    for a, b in pairs:
+        assert float(r[a]) == float(row[b]), (r["x"], r["y"], a, r[a], row[b])
+PY
+# EXR: a float channel per field, north up: the top-left pixel is (X0, Y1). The coast's 1:30 beach
+# is (170 - y) / 30 m deep.
+expect map-exr 0 'written to' "$houle" map --grid 0:100:50,0:150:50 --fields depth,hs --out "$work/coast.exr"
+expect map-exr-channels 0 '3 x +4, 2 channel, float openexr' oiiotool --info "$work/coast.exr"
+expect map-exr-header 0 'houle:grid: "0:100:50,0:150:50"' oiiotool --info -v "$work/coast.exr"
+oiiotool --dumpdata "$work/coast.exr" >"$work/dump.txt"
+check map-exr-north-up python3 - "$work/dump.txt" <<'PY'
+import re, sys
+px = {(int(a), int(b)): [float(v) for v in c.split()] for a, b, c in re.findall(r"Pixel \((\d+), (\d+)\): (.*)", open(sys.argv[1]).read())}
+assert abs(px[(0, 0)][0] - 20 / 30) < 1e-5 and abs(px[(2, 3)][0] - 170 / 30) < 1e-5, (px[(0, 0)], px[(2, 3)])
+PY
+expect map-help 0 'hs +significant wave height, m: 4 sqrt\(sum of a_i\^2 / 2\)' "$houle" map --help
+expect map-no-grid 2 'map: expects --grid X0:X1:DX,Y0:Y1:DY' "$houle" map --out "$work/x.csv"
+expect map-bad-grid 2 "map: --grid expects X0:X1:DX,Y0:Y1:DY in m, got '0:1:1'" "$houle" map --grid 0:1:1 --out "$work/x.csv"
+expect map-grid-order 2 'map: --grid: Y1 must be >= Y0, got 5:0:1' "$houle" map --grid 0:1:1,5:0:1 --out "$work/x.csv"
+expect map-grid-step 2 'map: --grid: the step DX must be > 0 m' "$houle" map --grid 0:1:0,0:1:1 --out "$work/x.csv"
+expect map-grid-size 2 'map: --grid: more than 16384 points along X' "$houle" map --grid 0:1e6:1,0:1:1 --out "$work/x.csv"
+expect map-grid-far 2 'map: --grid .*: the point \(200000, 0\) lies more than 100 km outside the domain' "$houle" map --grid 0:200000:20000,0:1:1 --out "$work/x.csv"
+expect map-field 2 "map: --fields expects a list of depth, hs, amplitude, kd, reflected, wavelength and direction, got 'height'" "$houle" map --grid 0:1:1,0:1:1 --fields depth,height --out "$work/x.csv"
+expect map-field-twice 2 'map: --fields names hs twice' "$houle" map --grid 0:1:1,0:1:1 --fields hs,depth,hs --out "$work/x.csv"
+expect map-extension 2 "map: --out expects a .exr or .csv file, got '.*x.png'" "$houle" map --grid 0:1:1,0:1:1 --out "$work/x.png"
+expect map-no-out 2 'map: expects --out FILE.exr or FILE.csv' "$houle" map --grid 0:1:1,0:1:1
+expect map-no-trains 2 'has no trains: the per-train fields kd make no channel' "$houle" map "$(printf '[floor.base]\ndepth = 5.0\n' >"$work/calm0.toml"; echo "$work/calm0.toml")" --grid 0:1:1,0:1:1 --fields kd --out "$work/x.csv"
+expect map-folder 2 'cannot open for writing: the folder .*/nodir does not exist' "$houle" map --grid 0:1:1,0:1:1 --out "$work/nodir/x.csv"
+
 echo "data_out: ${pass} passed, ${fail} failed"
 [ "$fail" -eq 0 ]
