@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <thread>
 
@@ -94,6 +95,23 @@ void take_threads(Args& args, unsigned& threads) {
 }
 
 unsigned default_threads() { return std::clamp(std::thread::hardware_concurrency(), 1u, 256u); }
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(static_cast<unsigned char>(c)));
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
 
 std::pair<int, int> frame_rate_ratio(double fps) {
   if (std::abs(fps - std::round(fps)) < 1e-9 * fps) return {int(std::lround(fps)), 1};

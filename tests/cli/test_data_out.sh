@@ -186,5 +186,47 @@ expect map-no-out 2 'map: expects --out FILE.exr or FILE.csv' "$houle" map --gri
 expect map-no-trains 2 'has no trains: the per-train fields kd make no channel' "$houle" map "$(printf '[floor.base]\ndepth = 5.0\n' >"$work/calm0.toml"; echo "$work/calm0.toml")" --grid 0:1:1,0:1:1 --fields kd --out "$work/x.csv"
 expect map-folder 2 'cannot open for writing: the folder .*/nodir does not exist' "$houle" map --grid 0:1:1,0:1:1 --out "$work/nodir/x.csv"
 
+# ---- houle bench --json and --gbench-json --------------------------------------------------------------
+bench() { "$houle" bench --frames 3 --warmup 1 --size 32x18 --quality draft "$@"; }
+bench --json --gbench-json "$work/g1.json" >"$work/bench.json" && bench --gbench-json "$work/g2.json" >/dev/null
+check bench-json-schema python3 - "$work/bench.json" "$(getconf _NPROCESSORS_ONLN)" <<'PY'
+import json, re, sys
+d = json.load(open(sys.argv[1]))
+assert d["schema"] == 1
+c = d["context"]
+assert set(c) == {"houle_version", "isa", "threads", "host_cpu", "date", "scene", "size", "quality", "frames", "warmup"}, c
+assert re.fullmatch(r"\d+\.\d+\.\d+", c["houle_version"]) and c["isa"] and c["host_cpu"]
+assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", c["date"]), c["date"]
+assert c["threads"] == int(sys.argv[2]) and c["scene"] == "built-in coast" and c["size"] == [32, 18]
+assert c["quality"] == "draft" and c["frames"] == 3 and c["warmup"] == 1
+assert d["build_ms"] > 0 and 0 <= d["primary_reused"] <= 1
+assert list(d["stages_ms"]) == ["frame", "surface", "noise", "march", "intersect", "shade"]
+assert all(set(s) == {"median", "p90", "p99", "max"} and s["median"] <= s["p90"] <= s["p99"] <= s["max"] for s in d["stages_ms"].values())
+PY
+# Google Benchmark's format as tools/compare.py reads it: entries it can compare (time_unit, real_time,
+# cpu_time), matched by name across two runs, every frame a repetition, then the aggregates; the
+# median aggregate is the --json report's median of the same run.
+check bench-gbench python3 - "$work/g1.json" "$work/g2.json" "$work/bench.json" <<'PY'
+import json, sys
+a, b, report = (json.load(open(p)) for p in sys.argv[1:])
+assert a["context"]["executable"] == "houle bench" and a["context"]["houle_version"] == report["context"]["houle_version"]
+for run in (a, b):
+    for e in run["benchmarks"]:
+        assert {"name", "run_name", "run_type", "repetitions", "repetition_index", "threads", "iterations", "real_time", "cpu_time", "time_unit"} <= set(e), e
+        assert e["time_unit"] == "ms" and e["iterations"] == 1 and e["real_time"] >= 0 and e["cpu_time"] == e["real_time"]
+        assert e["run_type"] in ("iteration", "aggregate") and (e["run_type"] == "iteration") == ("aggregate_name" not in e)
+names = lambda run: list(dict.fromkeys(e["name"] for e in run["benchmarks"]))
+stages = ["frame", "surface", "noise", "march", "intersect", "shade"]
+want = [f"built-in coast/32x18/draft/{s}{agg}" for s in stages for agg in ("", "_mean", "_median", "_stddev")]
+assert names(a) == names(b) == want, names(a)
+for name in names(a):
+    lhs = [e for e in a["benchmarks"] if e["name"] == name]
+    assert len(lhs) == (1 if "_" in name.rsplit("/", 1)[1] else 3), (name, len(lhs))
+for s in stages:
+    median = next(e for e in a["benchmarks"] if e["name"] == f"built-in coast/32x18/draft/{s}_median")
+    assert median["aggregate_name"] == "median" and abs(median["real_time"] - report["stages_ms"][s]["median"]) < 1e-3, s
+PY
+expect bench-gbench-folder 2 'bench: --gbench-json .*/nodir/g.json: cannot open for writing' "$houle" bench --frames 1 --size 32x18 --gbench-json "$work/nodir/g.json"
+
 echo "data_out: ${pass} passed, ${fail} failed"
 [ "$fail" -eq 0 ]
