@@ -24,8 +24,8 @@ std::optional<Y4mChroma> parse_y4m_chroma(std::string_view name) noexcept {
 std::string y4m_header(int width, int height, double fps, Y4mChroma chroma) {
   const auto [num, den] = frame_rate_ratio(fps);
   char buf[192];
-  std::snprintf(buf, sizeof buf, "YUV4MPEG2 W%d H%d F%d:%d Ip A1:1 %s XCOLORRANGE=LIMITED XCOLORMATRIX=BT709\n", width,
-                height, num, den, chroma == Y4mChroma::c444 ? "C444 XYSCSS=444" : "C420jpeg XYSCSS=420JPEG");
+  std::snprintf(buf, sizeof buf, "YUV4MPEG2 W%d H%d F%d:%d Ip A1:1 %s XCOLORRANGE=LIMITED\n", width, height, num, den,
+                chroma == Y4mChroma::c444 ? "C444" : "C420jpeg");
   return buf;
 }
 

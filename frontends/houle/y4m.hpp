@@ -17,9 +17,10 @@ namespace houle::cli {
 enum class Y4mChroma : std::uint8_t { c444, c420 };
 std::optional<Y4mChroma> parse_y4m_chroma(std::string_view name) noexcept;  ///< "444", "420"
 
-/// The stream header line, e.g. "YUV4MPEG2 W640 H360 F30:1 Ip A1:1 C420jpeg XYSCSS=420JPEG
-/// XCOLORRANGE=LIMITED XCOLORMATRIX=BT709\n". ffmpeg reads XCOLORRANGE; it has no key for the
-/// matrix, so XCOLORMATRIX (houle's) only records it.
+/// The stream header line, e.g. "YUV4MPEG2 W640 H360 F30:1 Ip A1:1 C420jpeg XCOLORRANGE=LIMITED\n".
+/// ffmpeg reads XCOLORRANGE, and no header line of 96 bytes or more ("Header too large"): the
+/// longest houle writes (16384 x 16384 at F987654321:1000000) is 80. y4m has no key for the matrix
+/// that ffmpeg reads: the stream is BT.709, which its users tag on the output (README).
 std::string y4m_header(int width, int height, double fps, Y4mChroma chroma);
 
 /// Bytes of one frame's planes (Y', then Cb, then Cr), without the "FRAME\n" line.
