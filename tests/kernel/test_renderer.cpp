@@ -233,6 +233,93 @@ TEST(Renderer, NoHeapAllocationInRender) {
   EXPECT_EQ(allocations, 0);
 }
 
+TEST(Renderer, AovsChangeNoPixelAndAllocateNothing) {
+  const RenderScene scene = test_scene();
+  RenderQuality q;
+  q.samples_per_pixel = 4;
+  Renderer r = make_renderer(scene, W, H, q, 2);
+  const houle::SurfaceFrame s = make_surface(3.0);
+  const houle::CapillaryFrame n = make_noise(3.0);
+  const Camera cam = default_cam();
+  Framebuffer plain(W, H), with(W, H, {true, true, true, true});
+  r.render(s, &n, nullptr, cam, plain);
+  r.render(s, &n, nullptr, cam, with);
+  EXPECT_TRUE(same_bytes(plain, with));
+  long allocations = 0;
+  {
+    houle::test::AllocationCounter counter;
+    r.render(s, &n, nullptr, cam, with);
+    allocations = counter.count();
+  }
+  EXPECT_EQ(allocations, 0);
+  // Four samples a pixel: the shares are quarters, and the picture has pixels of each kind.
+  for (const std::vector<float>* v : {&with.alpha, &with.sea}) {
+    EXPECT_TRUE(std::all_of(v->begin(), v->end(), [](float x) { return x == std::round(4.0f * x) / 4.0f && x >= 0.0f && x <= 1.0f; }));
+  }
+  EXPECT_TRUE(std::count(with.alpha.begin(), with.alpha.end(), 0.0f) > 0 && std::count(with.sea.begin(), with.sea.end(), 1.0f) > 0);
+}
+
+TEST(Renderer, AovsOfAFlatSeaAndItsObjects) {
+  // The sea at z = 0 (within 1 mm): a sea pixel's depth is that of the plane along its ray, its normal
+  // is up; an object pixel's depth puts its point on the box's or the sphere's surface; the sky has
+  // no surface. One sample a pixel, at its centre.
+  const RenderScene scene = test_scene();
+  Renderer r = make_renderer(scene, W, H, {}, 2);
+  const houle::SurfaceFrame s = make_surface(0.0, 0.0f, 0.0f, true);
+  const Camera cam = default_cam();
+  Framebuffer fb(W, H, {true, true, true, true});
+  r.render(s, nullptr, nullptr, cam, fb);
+  int sea = 0, object = 0, sky = 0, marcher_misses = 0;
+  for (std::uint32_t y = 0; y < H; ++y) {
+    for (std::uint32_t x = 0; x < W; ++x) {
+      const std::size_t i = std::size_t(y) * W + x;
+      const std::array<float, 3> d = houle::camera_ray(cam, float(x) + 0.5f, float(y) + 0.5f);
+      const float along = d[0] * cam.forward[0] + d[1] * cam.forward[1] + d[2] * cam.forward[2];
+      const float depth = fb.depth[i], *n = &fb.normal[3 * i];
+      if (fb.sea[i] == 1.0f) {
+        ++sea;
+        const float plane = cam.position[2] / -d[2] * along;
+        EXPECT_NEAR(depth, plane, 1e-4f * plane + 2e-3f / -d[2]) << x << ", " << y;
+        EXPECT_NEAR(n[2], 1.0f, 1e-6f);
+        EXPECT_EQ(fb.alpha[i], 1.0f);
+      } else if (fb.alpha[i] == 1.0f) {
+        ++object;
+        const float t = depth / along;
+        const std::array<float, 3> p{cam.position[0] + t * d[0], cam.position[1] + t * d[1], cam.position[2] + t * d[2]};
+        const float to_sphere = std::hypot(p[0] - 5.0f, p[1] - 20.0f, p[2] - 0.5f) - 1.5f;
+        const float to_box = std::max({std::abs(p[0] + 12.0f), std::abs(p[1] - 20.0f), std::abs(p[2] - 1.0f)}) - 2.0f;
+        EXPECT_LT(std::min(std::abs(to_sphere), std::abs(to_box)), 1e-3f) << x << ", " << y;
+        EXPECT_NEAR(n[0] * n[0] + n[1] * n[1] + n[2] * n[2], 1.0f, 1e-4f);  // a sphere's (p - c) / r in float
+        EXPECT_LT(n[0] * d[0] + n[1] * d[1] + n[2] * d[2], 0.0f);  // facing the camera
+      } else {
+        ++sky;
+        EXPECT_EQ(fb.alpha[i], 0.0f);
+        EXPECT_EQ(depth, std::numeric_limits<float>::infinity());
+        EXPECT_TRUE(n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f);
+        // Above the horizon; below it only where the marcher itself finds no crossing (it can miss a
+        // ray that meets the 1 mm swell near a crest's top, and the picture then shows the sky too).
+        if (d[2] <= 0.0f) {
+          houle::MarchParams mp;
+          mp.pixel_angle = cam.pixel_angle;
+          float t, hx, hy, hz, gx, gy;
+          houle::MarchStatus st;
+          houle::march_camera_row(s, cam, mp, y, x, 1, 0.5f, 0.5f, {&t, &hx, &hy, &hz, &gx, &gy, &st});
+          EXPECT_EQ(st, houle::MarchStatus::miss) << x << ", " << y;
+          ++marcher_misses;
+        }
+      }
+    }
+  }
+  EXPECT_GT(sea, 0);
+  EXPECT_GT(object, 0);
+  EXPECT_GT(sky, 0);
+  EXPECT_LE(marcher_misses, 2);
+  // Under water the water itself is what the camera sees: every sample is covered.
+  const Camera under = make_cam({0.0f, 0.0f, -2.0f}, {0.0f, 30.0f, 2.0f});
+  r.render(s, nullptr, nullptr, under, fb);
+  EXPECT_TRUE(std::all_of(fb.alpha.begin(), fb.alpha.end(), [](float a) { return a == 1.0f; }));
+}
+
 // A release build's fallback for a wrong call; with HOULE_ASSERTS the call aborts (test_contracts.cpp).
 #if !defined(HOULE_ENABLE_ASSERTS)
 TEST(Renderer, MismatchedSizesWriteNothing) {
