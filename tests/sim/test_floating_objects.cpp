@@ -27,6 +27,23 @@ TEST(FloatingObjects, DraftsHoldTheirWeightInWater) {
     EXPECT_NEAR(pi * d * d * (3.0 * r - d) / 3.0 / (4.0 / 3.0 * pi * r * r * r), rho / houle::sea_water_density, 1e-12);
   }
   EXPECT_NEAR(houle::box_draft(2.0, 512.5), 2.0, 1e-12);
+  // At rest the renderer gets them at their draft, whatever z the scene file wrote.
+  houle::Scene s;
+  houle::Sphere sp;
+  sp.center = {10.0, 20.0, 7.0};
+  sp.radius = 0.8;
+  sp.floats = true;
+  sp.density = 300.0;
+  s.spheres = {sp};
+  houle::Box b;
+  b.center = {30.0, 20.0, -4.0};
+  b.half_extent = {1.0, 1.0, 0.5};
+  b.floats = true;
+  b.density = 820.0;
+  s.boxes = {b};
+  const houle::RenderScene r = houle::make_render_scene(s);
+  EXPECT_FLOAT_EQ(r.spheres[0].center[2], float(0.8 - houle::sphere_draft(0.8, 300.0)));
+  EXPECT_FLOAT_EQ(r.boxes.back().center[2], float(0.5 - 1.0 * 820.0 / houle::sea_water_density));
 }
 
 // One long train along +x (wavelength 100 m, amplitude 0.5 m, a sine profile) on deep water.
