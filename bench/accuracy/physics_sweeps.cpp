@@ -236,7 +236,7 @@ std::vector<double> hs_map(const Scene& scene, float cell, unsigned threads) {
 }
 
 void sweep_components(const Options& o, std::vector<Row>& rows) {
-  const std::uint32_t reference = o.smoke ? 8 : 256;
+  const std::uint32_t reference = o.smoke ? 4 : 256;
   const float cell = quality_preset(QualityPreset::draft).sea_cell;
   const std::vector<double> ref = hs_map(coast_sea_state(reference), cell, o.threads);
   std::fprintf(stderr, "sea_state.components: reference %u\n", reference);

@@ -560,6 +560,15 @@ void clamp_centre(const std::array<float, 3>& c, const double (&rest)[3], double
   };
   x = clamp(c[0], 0), y = clamp(c[1], 1), z = clamp(c[2], 2);
 }
+// The present bounds: `reach` from the centre on each axis, widened far beyond double rounding so
+// that no ray the exact tests find meeting the object is said to miss them.
+void set_bounds(double (&lo)[3], double (&hi)[3], const double (&centre)[3], const double (&reach)[3]) {
+  for (int c = 0; c < 3; ++c) {
+    const double pad = 1e-6 * (std::abs(centre[c]) + reach[c]);
+    lo[c] = centre[c] - reach[c] - pad;
+    hi[c] = centre[c] + reach[c] + pad;
+  }
+}
 }  // namespace
 
 void SceneObjects::move_box(std::size_t k, const BoxPose& pose) noexcept {
@@ -573,12 +582,10 @@ void SceneObjects::move_box(std::size_t k, const BoxPose& pose) noexcept {
     const double norm = std::sqrt(double(e[0]) * e[0] + double(e[1]) * e[1] + double(e[2]) * e[2]);
     for (int c = 0; c < 3; ++c) b.axes[a][c] = norm > 0.0 && std::isfinite(norm) ? double(e[std::size_t(c)]) / norm : double(a == c);
   }
-  const double centre[3] = {b.cx, b.cy, b.cz}, half[3] = {b.hx, b.hy, b.hz};
-  for (int c = 0; c < 3; ++c) {
-    const double reach = std::abs(b.axes[0][c]) * half[0] + std::abs(b.axes[1][c]) * half[1] + std::abs(b.axes[2][c]) * half[2];
-    m.lo[c] = centre[c] - reach - 1e-6 * (std::abs(centre[c]) + reach);
-    m.hi[c] = centre[c] + reach + 1e-6 * (std::abs(centre[c]) + reach);
-  }
+  const double centre[3] = {b.cx, b.cy, b.cz};
+  double reach[3];
+  for (int c = 0; c < 3; ++c) reach[c] = std::abs(b.axes[0][c]) * b.hx + std::abs(b.axes[1][c]) * b.hy + std::abs(b.axes[2][c]) * b.hz;
+  set_bounds(m.lo, m.hi, centre, reach);
 }
 
 void SceneObjects::move_sphere(std::size_t k, const std::array<float, 3>& center) noexcept {
@@ -586,12 +593,8 @@ void SceneObjects::move_sphere(std::size_t k, const std::array<float, 3>& center
   Sphere& sp = spheres_[k];
   Mover& m = movers_[std::size_t(sp.mover)];
   clamp_centre(center, m.rest, m.motion, sp.cx, sp.cy, sp.cz);
-  const double centre[3] = {sp.cx, sp.cy, sp.cz};
-  for (int c = 0; c < 3; ++c) {
-    const double pad = 1e-6 * (std::abs(centre[c]) + sp.radius);
-    m.lo[c] = centre[c] - sp.radius - pad;
-    m.hi[c] = centre[c] + sp.radius + pad;
-  }
+  const double centre[3] = {sp.cx, sp.cy, sp.cz}, reach[3] = {sp.radius, sp.radius, sp.radius};
+  set_bounds(m.lo, m.hi, centre, reach);
 }
 
 SurfaceHit SceneObjects::intersect_memo(const SceneRay& r, float t_max, double floor_z_lo, PrimaryMemo& memo,
