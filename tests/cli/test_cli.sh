@@ -382,6 +382,8 @@ amplitude = 0.0
 significant_height = 1.5
 peak_period = 7.0
 components = 24')
+expect info-sea-state 0 '\[24\] period [0-9.]+ s, .*, of sea_states\[0\]' "$houle" info "$f"
+expect info-floating 0 'boxes: 1, spheres: 1 \(2 floating\)' "$houle" info "$src/scenes/buoy.toml"
 if "$houle" probe "$f" --at 150,150 --times 0:1800:0.5 --csv | python3 -c 'import csv,statistics,sys
 rows = list(csv.DictReader(sys.stdin))
 heights = {r["t"]: float(r["height"]) for r in rows}
