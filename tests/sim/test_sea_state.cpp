@@ -1,6 +1,7 @@
 // Sea states (sea_state.hpp, docs/physics.md 2.9): the spectrum against Pierson-Moskowitz's closed
 // form, the components' variance, peak and directional spread against what was asked, the same
-// components on every call, the limits, and a long record's Hs on the surface they make.
+// components on every call, the limits (test_sea_state_record.cpp: a long record's Hs on the surface
+// they make).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,8 +13,7 @@
 #include "angles.hpp"
 #include "houle/sim/animation.hpp"
 #include "houle/sim/sea_state.hpp"
-#include "houle/sim/sea_surface.hpp"
-#include "houle/sim/wave_rays.hpp"
+#include "open_sea.hpp"
 
 namespace {
 
@@ -27,15 +27,7 @@ std::vector<WaveTrain> components(const SeaState& s) {
   return c.ok() ? c.value() : std::vector<WaveTrain>{};
 }
 
-// Deep (100 m) open water, no walls: every component is an analytic train.
-houle::Scene open_sea(const SeaState& s) {
-  houle::Scene scene;
-  scene.domain = {0.0, 0.0, 400.0, 400.0};
-  scene.floor.base.depth = 100.0;
-  scene.capillary.amplitude = 0.0;
-  scene.sea_states = {s};
-  return scene;
-}
+using houle_test::open_sea;
 
 TEST(SeaState, PiersonMoskowitzIsJonswapWithGammaOne) {
   // The closed form S(f) = 5/16 Hs^2 fp^4 f^-5 exp(-5/4 (fp/f)^4), whose integral is Hs^2 / 16.
@@ -90,18 +82,25 @@ TEST(SeaState, ComponentsRecoverThePeakAndTheSpectrum) {
     ASSERT_EQ(c.size(), 64u);
     const double fp = 1.0 / 8.0;
     const houle::JonswapSpectrum spectrum(s);
-    const auto share = [&](double f) {  // of [0.5 fp, f]
-      const int n = 20000;
-      const double lo = 0.5 * fp, h = (f - lo) / n;
-      double sum = spectrum.density(lo) + spectrum.density(f);
-      for (int i = 1; i < n; ++i) sum += (i % 2 ? 4.0 : 2.0) * spectrum.density(lo + i * h);
+    // Simpson's rule over [a, b] in 200 intervals.
+    const auto integral = [&](double a, double b) {
+      const int n = 200;
+      const double h = (b - a) / n;
+      double sum = spectrum.density(a) + spectrum.density(b);
+      for (int i = 1; i < n; ++i) sum += (i % 2 ? 4.0 : 2.0) * spectrum.density(a + i * h);
       return sum * h / 3.0;
     };
-    const double band = share(5.0 * fp);
-    std::vector<double> f;
-    for (const WaveTrain& t : c) f.push_back(1.0 / *t.period);
+    std::vector<double> f, below;  // each component's frequency, and the variance of the band under it
+    double lo = 0.5 * fp, sum = 0.0;
+    for (const WaveTrain& t : c) {
+      f.push_back(1.0 / *t.period);
+      sum += integral(lo, f.back());
+      below.push_back(sum);
+      lo = f.back();
+    }
+    const double band = sum + integral(lo, 5.0 * fp);
     for (std::size_t i = 0; i < f.size(); ++i) {
-      const double u = share(f[i]) / band * 64.0;
+      const double u = below[i] / band * 64.0;
       EXPECT_GT(u, double(i)) << "gamma " << gamma << ", component " << i;
       EXPECT_LT(u, double(i + 1)) << "gamma " << gamma << ", component " << i;
     }
@@ -239,60 +238,6 @@ TEST(SeaState, ComponentsCountInTheMemoryEstimate) {
   EXPECT_NE(fits.error().message.find("sea grids"), std::string::npos) << fits.error().message;
   scene.sea_states[0].components = 1;
   EXPECT_TRUE(houle::check_build_memory(houle::validate(scene).value(), 0.5f, 0).ok());
-}
-
-// 4 standard deviations of the surface height at (x, y) over an hour (houle probe --times).
-double record_hs(const houle::Scene& scene, float x, float y) {
-  auto field = houle::trace_wave_field(scene, 2);
-  EXPECT_TRUE(field.ok());
-  if (!field.ok()) return 0.0;
-  auto sea = houle::SeaSurface::build(scene, field.value(), 1.0f, houle::SeaParts::drop, 2);
-  EXPECT_TRUE(sea.ok());
-  if (!sea.ok()) return 0.0;
-  double sum = 0.0, sum2 = 0.0;
-  const int n = 14400;
-  for (int i = 0; i < n; ++i) {
-    sea->set_time(0.25 * i);
-    float h, gx, gy;
-    sea->eval(&x, &y, 1, &h, &gx, &gy);
-    sum += h;
-    sum2 += double(h) * h;
-  }
-  const double mean = sum / n;
-  return 4.0 * std::sqrt(sum2 / n - mean * mean);
-}
-
-TEST(SeaState, ALongRecordOffshoreHasTheSignificantHeight) {
-  // On the sea surface the scene's components make, at an offshore point: in deep open water (every
-  // component analytic), and offshore of a beach whose plateau is deep for the spectrum (k h > 4 at
-  // the peak: shoaling within 1 %), where every component is traced.
-  for (double gamma : {1.0, 3.3}) {
-    SeaState s;
-    s.significant_height = 2.0;
-    s.peak_period = 8.0;
-    s.gamma = gamma;
-    auto scene = houle::validate(open_sea(s));
-    ASSERT_TRUE(scene.ok());
-    const double hs = record_hs(scene.value(), 200.0f, 200.0f);
-    EXPECT_NEAR(hs / 2.0, 1.0, 0.05) << "gamma " << gamma << ": Hs " << hs;
-  }
-  SeaState s;
-  s.significant_height = 1.2;
-  s.peak_period = 6.0;
-  s.components = 16;
-  houle::Scene beach = open_sea(s);
-  beach.domain = {0.0, 0.0, 200.0, 200.0};
-  beach.floor.base.kind = houle::FloorKind::planar_beach;
-  beach.floor.base.depth = 60.0;
-  beach.floor.base.slope = 0.3;
-  beach.floor.base.shoreline = {0.0, 190.0};
-  beach.dwt.step = 1.0;
-  beach.dwt.insertion_distance = 2.0;
-  auto scene = houle::validate(beach);
-  ASSERT_TRUE(scene.ok()) << scene.error().field << ": " << scene.error().message;
-  for (std::size_t t = 0; t < scene->trains.size(); ++t) ASSERT_TRUE(houle::train_needs_rays(scene.value(), t));
-  const double hs = record_hs(scene.value(), 100.0f, 40.0f);
-  EXPECT_NEAR(hs / 1.2, 1.0, 0.05) << "traced: Hs " << hs;
 }
 
 }  // namespace
