@@ -1,5 +1,6 @@
 #include "houle/sim/animation.hpp"
 #include "houle/sim/effect_plan.hpp"
+#include "houle/sim/floating_objects.hpp"
 
 #include <algorithm>
 #include <array>
@@ -25,11 +26,12 @@ std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20)
 }  // namespace
 
 // Per traced sample: the tracer's store (9 doubles, flags, ray index) and the output rays (7 doubles,
-// flags) exist together at the end of a trace. Per sea grid node: phi, amplitude, kx, ky. The floor
+// flags) exist together at the end of a trace. Per sea grid node and traced train (a sea state's
+// components each count): phi, b_re, b_im, kx, ky, fold, lean and K' (TrainField). The floor
 // grid has one float per metre (render_scene.cpp). Per pixel: the renderer's and the caller's buffers,
 // and the primary hits the renderer keeps (counted at up to 8 samples, capped as the renderer caps them).
 Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t pixels) {
-  constexpr std::uint64_t per_sample = 9 * 8 + 1 + 4 + 7 * 8 + 1, per_node = 4 * 4, per_pixel = 64;
+  constexpr std::uint64_t per_sample = 9 * 8 + 1 + 4 + 7 * 8 + 1, per_node = 8 * 4, per_pixel = 64;
   std::uint64_t rays = 0, sea = 0;
   for (std::size_t t = 0; t < s.trains.size(); ++t) {
     if (s.dwt.analytic_shortcut && !train_needs_rays(s, t)) continue;
@@ -115,10 +117,21 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   if (!sea) return sea.error();
   Expected<SurfaceFrame> surface = SurfaceFrame::create(quality.surface);
   if (!surface) return Error{"quality.surface", surface.error().message};
-  Expected<Renderer> renderer = Renderer::create(make_render_scene(s), width, height, planned_quality(plan, quality).render, threads);
+  // A floating object goes no further than the sea's height bound up or down, and its centre swings
+  // by less than 1.5 times its height above the waterplane as it tilts.
+  RenderScene render_scene = make_render_scene(s);
+  std::vector<FloatingObject> floating = floating_objects(s, render_scene.boxes.size() - s.boxes.size());
+  const double float_bound = double(sea->height_bound());
+  for (const FloatingObject& f : floating) {
+    const float motion = float(float_bound + 1.5 * std::abs(f.centre_above)) + 0.01f;
+    (f.box ? render_scene.boxes[f.render_index].motion : render_scene.spheres[f.render_index].motion) = motion;
+  }
+  Expected<Renderer> renderer = Renderer::create(render_scene, width, height, planned_quality(plan, quality).render, threads);
   if (!renderer) return Error{"render", renderer.error().message};
 
   Animation a(std::move(renderer.value()), std::move(surface.value()));
+  a.floating_ = std::move(floating);
+  a.float_bound_ = float_bound;
   a.waves_ = std::make_unique<WaveField>(std::move(waves.value()));
   a.sea_ = std::make_unique<SeaSurface>(std::move(sea.value()));
   a.camera_ = camera.value();
@@ -142,6 +155,14 @@ void Animation::render(double time_s, Framebuffer& out) noexcept {
                "Animation::render: a framebuffer of the animation's width x height");
   auto t0 = Clock::now();
   sea_->set_time(time_s);
+  for (const FloatingObject& f : floating_) {
+    const FloatingPose p = floating_pose(f, *sea_, float_bound_);
+    if (f.box) {
+      renderer_.move_box(f.render_index, box_pose(f, p));
+    } else {
+      renderer_.move_sphere(f.render_index, {float(p.centre[0]), float(p.centre[1]), float(p.centre[2])});
+    }
+  }
   surface_.begin_frame(camera_.position[0], camera_.position[1]);
   surface_.restrict_to_view(camera_);  // every ray the renderer marches over the sea starts at the camera
   renderer_.fill_surface(surface_, &SeaSurface::sample, sea_.get());

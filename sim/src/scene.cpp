@@ -5,11 +5,13 @@
 #include <numbers>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <utility>
 
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene_keys.hpp"
+#include "houle/sim/sea_state.hpp"
 #include "clip_line.hpp"
 
 namespace houle {
@@ -62,13 +64,27 @@ Expected<void> check_domain(const Domain& d) {
 
 // Counts that bound the scene build's memory and time (docs/scenes.md, "Limits").
 Expected<void> check_counts(const Scene& s) {
-  const std::pair<const char*, std::size_t> counts[] = {
-      {"floor.shoals", s.floor.shoals.size()}, {"floor.bars", s.floor.bars.size()},
-      {"floor.channels", s.floor.channels.size()}, {"walls", s.walls.size()},
-      {"trains", s.trains.size()}, {"boxes", s.boxes.size()}, {"spheres", s.spheres.size()}};
-  for (const auto& [field, n] : counts) {
-    const std::size_t most = std::string_view(field) == "trains" ? scene_limits::max_trains : scene_limits::max_items;
+  const auto written = std::size_t(std::count_if(s.trains.begin(), s.trains.end(), [](const WaveTrain& t) { return t.sea_state < 0; }));
+  const std::tuple<const char*, std::size_t, std::size_t> counts[] = {
+      {"floor.shoals", s.floor.shoals.size(), scene_limits::max_items},
+      {"floor.bars", s.floor.bars.size(), scene_limits::max_items},
+      {"floor.channels", s.floor.channels.size(), scene_limits::max_items},
+      {"walls", s.walls.size(), scene_limits::max_items},
+      {"trains", written, scene_limits::max_trains},
+      {"sea_states", s.sea_states.size(), scene_limits::max_sea_states},
+      {"boxes", s.boxes.size(), scene_limits::max_items},
+      {"spheres", s.spheres.size(), scene_limits::max_items}};
+  for (const auto& [field, n, most] : counts) {
     if (n > most) return Error{field, "at most " + std::to_string(most) + " entries, got " + std::to_string(n)};
+  }
+  std::size_t components = 0;
+  for (std::size_t i = 0; i < s.sea_states.size(); ++i) {
+    components += s.sea_states[i].components;
+    if (components > scene_limits::max_components) {
+      return Error{at("sea_states", i) + ".components", "at most " + std::to_string(scene_limits::max_components) +
+                                                             " components in all sea states together, got " +
+                                                             std::to_string(components) + " up to this one"};
+    }
   }
   for (std::size_t i = 0; i < s.walls.size(); ++i) {
     if (s.walls[i].points.size() > scene_limits::max_wall_points) {
@@ -192,6 +208,13 @@ Expected<Scene> validate(Scene scene) {
   if (auto e = check_trains(scene.trains); !e) return e.error();
   if (auto e = check_camera(scene); !e) return e.error();
   if (auto e = check_dwt(scene.dwt); !e) return e.error();
+  // The sea states' components, again from scratch: a valid scene validates to itself.
+  std::erase_if(scene.trains, [](const WaveTrain& t) { return t.sea_state >= 0; });
+  for (std::size_t i = 0; i < scene.sea_states.size(); ++i) {
+    Expected<std::vector<WaveTrain>> components = sea_state_components(scene.sea_states[i], i);
+    if (!components) return components.error();
+    scene.trains.insert(scene.trains.end(), components->begin(), components->end());
+  }
   return scene;
 }
 

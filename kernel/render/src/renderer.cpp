@@ -536,6 +536,11 @@ std::uint32_t Renderer::width() const noexcept { return impl_->width; }
 std::uint32_t Renderer::height() const noexcept { return impl_->height; }
 unsigned Renderer::threads() const noexcept { return impl_->pool->size(); }
 
+void Renderer::move_box(std::size_t box, const BoxPose& pose) noexcept { impl_->objects.move_box(box, pose); }
+void Renderer::move_sphere(std::size_t sphere, const std::array<float, 3>& center) noexcept {
+  impl_->objects.move_sphere(sphere, center);
+}
+
 void Renderer::fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept {
   HOULE_ASSERT(sampler != nullptr, "Renderer::fill_surface: a sampler");
   const unsigned parts = std::min(impl_->pool->size(), SurfaceFrame::max_fill_parts);

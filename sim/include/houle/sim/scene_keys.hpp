@@ -104,6 +104,7 @@ extern const Section<Channel> channels;
 extern const Section<HeightMapFile> height_map;
 extern const Section<Wall> walls;
 extern const Section<WaveTrain> trains;
+extern const Section<SeaState> sea_states;
 extern const Section<CapillaryNoise> capillary;
 extern const Section<Box> boxes;
 extern const Section<Sphere> spheres;
@@ -124,6 +125,7 @@ void for_each_section(Visit&& visit) {
   visit(height_map);
   visit(walls);
   visit(trains);
+  visit(sea_states);
   visit(capillary);
   visit(boxes);
   visit(spheres);
