@@ -26,7 +26,7 @@ std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20)
 
 // Per traced sample: the tracer's store (9 doubles, flags, ray index) and the output rays (7 doubles,
 // flags) exist together at the end of a trace. Per sea grid node: phi, amplitude, kx, ky. The floor
-// grid has one float per metre (render_scene.cpp). Per pixel: the renderer's and the caller's buffers,
+// grid has one float per metre (render_scene.cpp), and the renderer one more for its clearance map. Per pixel: the renderer's and the caller's buffers,
 // and the primary hits the renderer keeps (counted at up to 8 samples, capped as the renderer caps them).
 Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t pixels) {
   constexpr std::uint64_t per_sample = 9 * 8 + 1 + 4 + 7 * 8 + 1, per_node = 4 * 4, per_pixel = 64;
@@ -37,7 +37,7 @@ Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t 
     sea += grid_nodes(s.domain, sea_cell) * per_node;
   }
   const std::uint64_t kept = std::min<std::uint64_t>(pixels * 8 * Renderer::kept_hit_bytes, Renderer::max_kept_bytes);
-  const std::uint64_t floor = grid_nodes(s.domain, 1.0) * 4, image = pixels * per_pixel + kept;
+  const std::uint64_t floor = grid_nodes(s.domain, 1.0) * 8, image = pixels * per_pixel + kept;
   const std::uint64_t total = rays + sea + floor + image;
   if (total <= scene_limits::max_animation_bytes) return {};
   return Error{"scene", "needs an estimated " + mib(total) + " at this quality and size (wave rays " + mib(rays) +
