@@ -501,6 +501,13 @@ void Renderer::fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void*
   impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
     surface.fill_part(sampler, context, unsigned(part), parts);
   });
+  // The morph and the tiles' bounds too: alone on one thread they left the other idle.
+  impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
+    surface.morph_part(unsigned(part), parts);
+  });
+  impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
+    surface.bound_part(unsigned(part), parts);
+  });
   surface.finish_frame();
 }
 
