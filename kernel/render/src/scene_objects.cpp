@@ -187,8 +187,8 @@ double SceneObjects::clear_until(const SceneRay& r, double t0, double t1) const 
   // clamping moves no two points further apart), every point within clear_cells cells in each axis
   // lies in c's window, so the floor there is at most clear_max_[c]. The ray stays that close while it
   // moves clear_cells cells along its faster horizontal axis (less a hundredth of a cell, for the
-  // rounding of the cell's index), and cannot meet the floor while it is above that maximum (plus a
-  // margin far beyond the walk's rounding).
+  // rounding of the cell's index), and, as it does not descend, cannot meet the floor there while it
+  // starts above that maximum (plus a margin far beyond the walk's rounding).
   constexpr double margin = 1e-4;  // m
   constexpr int max_jumps = 4;
   const double speed = std::max(std::abs(r.dx), std::abs(r.dy));
@@ -202,9 +202,8 @@ double SceneObjects::clear_until(const SceneRay& r, double t0, double t1) const 
     const auto j = std::size_t(fy > 0.0 ? (fy < last_j ? fy : last_j) : 0.0);
     const double top = double(clear_max_[j * std::size_t(level_nx_[0]) + i]) + margin;
     if (!(r.oz + t * r.dz > top)) break;
-    const double next = r.dz < 0.0 ? std::min(t + reach, (top - r.oz) / r.dz) : t + reach;
-    if (!(next > t)) break;
-    t = next;
+    if (!(t + reach > t)) break;
+    t += reach;
   }
   return std::min(t, t1);
 }
@@ -359,7 +358,9 @@ double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, do
                                bool skip_clear) const noexcept {
   FloorSpan span = floor_span(r, t_min, t_max, z_lo);
   if (!span.walk) return t_max;
-  if (skip_clear) {
+  // Rays that rise (reflected rays, shadows) start low over the ground they clear; rays that descend
+  // (refracted) meet the floor within a few cells, where the jumps would cost more than they skip.
+  if (skip_clear && !(r.dz < 0.0)) {
     span.t0 = clear_until(r, span.t0, span.t1);
     if (!(span.t0 < span.t1)) return t_max;
     span.level = first_level(r, span.t0, span.t1);

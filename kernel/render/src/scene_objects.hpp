@@ -128,8 +128,8 @@ class SceneObjects {
   /// the normal on a hit when `normal` is not null. With `skip_clear` the walk starts at clear_until.
   double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo, std::array<float, 3>* normal,
                    bool skip_clear) const noexcept;
-  /// A t in [t0, t1] before which the ray provably stays above the floor (t1: above it all along),
-  /// from the clearance map in at most a few jumps of clear_cells cells.
+  /// For a ray that does not descend: a t in [t0, t1] before which it provably stays above the floor
+  /// (t1: above it all along), from the clearance map in at most a few jumps of clear_cells cells.
   double clear_until(const SceneRay& ray, double t0, double t1) const noexcept;
   void build_clearance();
   float sample(std::int64_t i, std::int64_t j) const noexcept;
