@@ -346,7 +346,8 @@ void SurfaceFrame::morph_part(unsigned part, unsigned parts) noexcept {
       if (row_index % parts == part) morph_row(l, j);
     }
   }
-  morphed_ = true;
+  // Read by finish_frame() once every part is done; one part writes it, so parts never race on it.
+  if (part == 0) morphed_ = true;
 }
 
 void SurfaceFrame::bound_part(unsigned part, unsigned parts) noexcept {
@@ -357,7 +358,7 @@ void SurfaceFrame::bound_part(unsigned part, unsigned parts) noexcept {
       if (row_index % parts == part) bound_tile_row(l, tj, part);
     }
   }
-  bounded_ = true;
+  if (part == 0) bounded_ = true;  // as morphed_ above
 }
 
 namespace {
