@@ -287,6 +287,44 @@ TEST(Renderer, FiniteEverywhereInHardViews) {
 
 // ---- The picture --------------------------------------------------------------------------------
 
+TEST(Renderer, FillSurfaceOnItsThreadsEqualsTheOnePieceFill) {
+  // The per-frame retessellation on the renderer's threads (fill, morph and tile bounds in parts):
+  // the very frame SurfaceFrame::fill gives, restricted to a view or not. (Under ThreadSanitizer:
+  // the parts share no mutable state.)
+  Renderer r = make_renderer(test_scene(), W, H, {}, 3);
+  auto g = houle::make_gerstner_frame(two_trains(), 1.7);
+  ASSERT_TRUE(g.ok());
+  const auto sampler = [](void* c, const float* x, const float* y, std::size_t n, float* h, float* gx, float* gy) noexcept {
+    houle::gerstner_eval(*static_cast<const houle::GerstnerFrame*>(c), x, y, n, {h, gx, gy});
+  };
+  for (bool restricted : {false, true}) {
+    auto a = houle::SurfaceFrame::create(small_frame_config()), b = houle::SurfaceFrame::create(small_frame_config());
+    ASSERT_TRUE(a.ok() && b.ok());
+    for (houle::SurfaceFrame* f : {&a.value(), &b.value()}) {
+      f->begin_frame(3.0f, -2.0f);
+      if (restricted) f->restrict_to_view(default_cam());
+    }
+    a->fill(sampler, &g.value());
+    r.fill_surface(b.value(), sampler, &g.value());
+    const houle::SurfaceFrameConfig& c = a->config();
+    const std::size_t floats = (c.cells + 1) * a->stride();
+    for (std::uint32_t l = 0; l < c.levels; ++l) {
+      ASSERT_EQ(std::memcmp(a->heights(l), b->heights(l), floats * sizeof(float)), 0) << "level " << l;
+      ASSERT_EQ(std::memcmp(a->grad_x(l), b->grad_x(l), floats * sizeof(float)), 0) << "level " << l;
+      ASSERT_EQ(std::memcmp(a->grad_y(l), b->grad_y(l), floats * sizeof(float)), 0) << "level " << l;
+      for (std::uint32_t j = 0; j < a->tiles_per_side(); ++j) {
+        for (std::uint32_t i = 0; i < a->tiles_per_side(); ++i) {
+          const houle::TileBounds ta = a->tile(l, i, j), tb = b->tile(l, i, j);
+          ASSERT_TRUE(ta.h_min == tb.h_min && ta.h_max == tb.h_max && ta.slope_x == tb.slope_x && ta.slope_y == tb.slope_y)
+              << "level " << l << " tile " << i << ", " << j;
+        }
+      }
+    }
+    EXPECT_EQ(a->z_min(), b->z_min());
+    EXPECT_EQ(a->z_max(), b->z_max());
+  }
+}
+
 TEST(Renderer, SkyIsBlueAndSeaDarkerThanSky) {
   Renderer r = make_renderer(test_scene(), W, H, {}, 2);
   const houle::SurfaceFrame s = make_surface(3.0);
