@@ -1,4 +1,5 @@
 #include "houle/sim/animation.hpp"
+#include "houle/sim/camera_path.hpp"
 #include "houle/sim/effect_plan.hpp"
 #include "houle/sim/floating_objects.hpp"
 
@@ -28,7 +29,8 @@ std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20)
 // Per traced sample: the tracer's store (9 doubles, flags, ray index) and the output rays (7 doubles,
 // flags) exist together at the end of a trace. Per sea grid node and traced train (a sea state's
 // components each count): phi, b_re, b_im, kx, ky, fold, lean and K' (TrainField). The floor
-// grid has one float per metre (render_scene.cpp). Per pixel: the renderer's and the caller's buffers,
+// grid has one float per metre (render_scene.cpp), and the renderer one more for its clearance map.
+// Per pixel: the renderer's and the caller's buffers,
 // and the primary hits the renderer keeps (counted at up to 8 samples, capped as the renderer caps them).
 Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t pixels) {
   constexpr std::uint64_t per_sample = 9 * 8 + 1 + 4 + 7 * 8 + 1, per_node = 8 * 4, per_pixel = 64;
@@ -39,7 +41,7 @@ Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t 
     sea += grid_nodes(s.domain, sea_cell) * per_node;
   }
   const std::uint64_t kept = std::min<std::uint64_t>(pixels * 8 * Renderer::kept_hit_bytes, Renderer::max_kept_bytes);
-  const std::uint64_t floor = grid_nodes(s.domain, 1.0) * 4, image = pixels * per_pixel + kept;
+  const std::uint64_t floor = grid_nodes(s.domain, 1.0) * 8, image = pixels * per_pixel + kept;
   const std::uint64_t total = rays + sea + floor + image;
   if (total <= scene_limits::max_animation_bytes) return {};
   return Error{"scene", "needs an estimated " + mib(total) + " at this quality and size (wave rays " + mib(rays) +
@@ -99,13 +101,7 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   const Scene& s = scene.value();
   if (Expected<void> fits = check_build_memory(s, quality.sea_cell, std::uint64_t(width) * height); !fits) return fits.error();
 
-  CameraParams cp;
-  cp.position = {float(s.camera.position.x), float(s.camera.position.y), float(s.camera.position.z)};
-  cp.look_at = {float(s.camera.look_at.x), float(s.camera.look_at.y), float(s.camera.look_at.z)};
-  cp.vertical_fov = float(s.camera.vertical_fov_deg * 3.14159265358979323846 / 180.0);
-  cp.width = width;
-  cp.height = height;
-  Expected<Camera> camera = make_camera(cp);
+  Expected<Camera> camera = make_camera(camera_params(camera_pose(s.camera, 0.0), width, height));
   if (!camera) return Error{"camera", camera.error().message};
 
   // The tracer and the noise follow the same plan (train_needs_rays, pierheads, capillary amplitude);
@@ -135,6 +131,9 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   a.waves_ = std::make_unique<WaveField>(std::move(waves.value()));
   a.sea_ = std::make_unique<SeaSurface>(std::move(sea.value()));
   a.camera_ = camera.value();
+  a.view_ = s.camera;
+  a.width_ = width;
+  a.height_ = height;
   if (plan.capillary_noise) {
     CapillaryParams p;
     p.amplitude = float(s.capillary.amplitude);
@@ -150,9 +149,24 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   return a;
 }
 
+void Animation::set_camera(double time_s) noexcept {
+  if (view_.keys.empty()) return;
+  CameraParams p = camera_params(camera_pose(view_, time_s), width_, height_);
+  // The curves may pass through their own look-at point: that instant takes the nearest key's view
+  // (each key is a valid camera), so that make_camera cannot fail here (nor allocate its error).
+  if (p.position == p.look_at) {
+    const auto nearest = std::min_element(view_.keys.begin(), view_.keys.end(), [&](const CameraKey& a, const CameraKey& b) {
+      return std::abs(a.time - time_s) < std::abs(b.time - time_s);
+    });
+    p = camera_params(camera_pose(view_, nearest->time), width_, height_);
+  }
+  if (Expected<Camera> c = make_camera(p)) camera_ = c.value();
+}
+
 void Animation::render(double time_s, Framebuffer& out) noexcept {
   HOULE_ASSERT(out.width == int(renderer_.width()) && out.height == int(renderer_.height()),
                "Animation::render: a framebuffer of the animation's width x height");
+  set_camera(time_s);
   auto t0 = Clock::now();
   sea_->set_time(time_s);
   for (const FloatingObject& f : floating_) {

@@ -155,12 +155,29 @@ Expected<void> check_trains(const std::vector<WaveTrain>& trains) {
 
 Expected<void> check_camera(const Scene& s) {
   const ViewCamera& cam = s.camera;
-  if (cam.position.x == cam.look_at.x && cam.position.y == cam.look_at.y && cam.position.z == cam.look_at.z) {
-    return Error{"camera.look_at", "a point different from camera.position"};
+  const Bathymetry floor(s.floor);
+  // The still camera, or each key of a moving one: looking somewhere, above the sea floor.
+  const auto check_view = [&](Point3 position, Point3 look_at, const std::string& field) -> Expected<void> {
+    if (position.x == look_at.x && position.y == look_at.y && position.z == look_at.z) {
+      return Error{field + ".look_at", "a point different from " + field + ".position"};
+    }
+    const double floor_z = -floor.depth(position.x, position.y);
+    if (position.z < floor_z) {
+      return bad(field + ".position.z", "a height above the sea floor there (z = " + num(floor_z) + " m)", position.z);
+    }
+    return {};
+  };
+  if (cam.keys.empty()) return check_view(cam.position, cam.look_at, "camera");
+  if (cam.keys.size() > scene_limits::max_items) {
+    return Error{"camera.keys", "at most " + std::to_string(scene_limits::max_items) + " entries, got " +
+                                    std::to_string(cam.keys.size())};
   }
-  const double floor_z = -Bathymetry(s.floor).depth(cam.position.x, cam.position.y);
-  if (cam.position.z < floor_z) {
-    return bad("camera.position.z", "a height above the sea floor there (z = " + num(floor_z) + " m)", cam.position.z);
+  for (std::size_t i = 0; i < cam.keys.size(); ++i) {
+    const CameraKey& k = cam.keys[i];
+    if (i > 0 && !(k.time > cam.keys[i - 1].time)) {
+      return bad(at("camera.keys", i) + ".time", "a time after the key before's (" + num(cam.keys[i - 1].time) + " s)", k.time);
+    }
+    if (auto e = check_view(k.position, k.look_at, at("camera.keys", i)); !e) return e;
   }
   return {};
 }

@@ -267,6 +267,14 @@ constexpr Key<ViewCamera> camera_keys[] = {
     {"vertical_fov_deg", &ViewCamera::vertical_fov_deg, "deg", {0.0, 180.0, true, true}, "vertical field of view"},
 };
 
+constexpr Key<CameraKey> camera_path_keys[] = {
+    {"time", &CameraKey::time, "s", any, "scene time of the key; keys in strictly increasing time", {}, nullptr, true},
+    {"position", &CameraKey::position, "m", any, "where the camera is then", {}, nullptr, true},
+    {"look_at", &CameraKey::look_at, "m", any, "point looked at (not the position)", {}, nullptr, true},
+    {"vertical_fov_deg", &CameraKey::vertical_fov_deg, "deg", {0.0, 180.0, true, true},
+     "vertical field of view; [camera]'s when not given"},
+};
+
 constexpr Key<Water> water_keys[] = {
     {"extra_absorption", &Water::extra_absorption, "1/m", non_negative,
      "added to pure water's absorption (turbidity, plankton)"},
@@ -364,6 +372,15 @@ constexpr Section<Sun> sun{"sun", false, "the sun", "", sun_keys, [](Scene& s) -
 constexpr Section<Sky> sky{"sky", false, "the sky", "", sky_keys, [](Scene& s) -> Sky& { return s.sky; }};
 constexpr Section<ViewCamera> camera{"camera", false, "the view", "", camera_keys,
                                      [](Scene& s) -> ViewCamera& { return s.camera; }};
+constexpr Section<CameraKey> camera_path{
+    "camera.keys", true, "a moving camera",
+    "With keys the camera flies through them: position, look_at and the field of view are each a cubic "
+    "Hermite curve through the keys with Catmull-Rom tangents (the neighbouring keys' difference over their "
+    "time apart; one-sided at the first and last key), so they move smoothly and pass through every key at its "
+    "time; the field of view stays between its two keys' values. Before the first key and after the last the "
+    "camera stands at that key. Frame n shows the camera at its own time n / fps, whatever was rendered before "
+    "it. `camera.position` and `camera.look_at` are then unused.",
+    camera_path_keys, nullptr, [](Scene& s) -> std::vector<CameraKey>& { return s.camera.keys; }};
 constexpr Section<Water> water{"water", false, "the water's colour", "", water_keys,
                                [](Scene& s) -> Water& { return s.water; }};
 constexpr Section<DwtSettings> dwt{"dwt", false, "accuracy knobs of the wave-ray tracer", "", dwt_keys,

@@ -374,6 +374,44 @@ TEST(Renderer, FiniteEverywhereInHardViews) {
 
 // ---- The picture --------------------------------------------------------------------------------
 
+TEST(Renderer, FillSurfaceOnItsThreadsEqualsTheOnePieceFill) {
+  // The per-frame retessellation on the renderer's threads (fill, morph and tile bounds in parts):
+  // the very frame SurfaceFrame::fill gives, restricted to a view or not. (Under ThreadSanitizer:
+  // the parts share no mutable state.)
+  Renderer r = make_renderer(test_scene(), W, H, {}, 3);
+  auto g = houle::make_gerstner_frame(two_trains(), 1.7);
+  ASSERT_TRUE(g.ok());
+  const auto sampler = [](void* c, const float* x, const float* y, std::size_t n, float* h, float* gx, float* gy) noexcept {
+    houle::gerstner_eval(*static_cast<const houle::GerstnerFrame*>(c), x, y, n, {h, gx, gy});
+  };
+  for (bool restricted : {false, true}) {
+    auto a = houle::SurfaceFrame::create(small_frame_config()), b = houle::SurfaceFrame::create(small_frame_config());
+    ASSERT_TRUE(a.ok() && b.ok());
+    for (houle::SurfaceFrame* f : {&a.value(), &b.value()}) {
+      f->begin_frame(3.0f, -2.0f);
+      if (restricted) f->restrict_to_view(default_cam());
+    }
+    a->fill(sampler, &g.value());
+    r.fill_surface(b.value(), sampler, &g.value());
+    const houle::SurfaceFrameConfig& c = a->config();
+    const std::size_t floats = (c.cells + 1) * a->stride();
+    for (std::uint32_t l = 0; l < c.levels; ++l) {
+      ASSERT_EQ(std::memcmp(a->heights(l), b->heights(l), floats * sizeof(float)), 0) << "level " << l;
+      ASSERT_EQ(std::memcmp(a->grad_x(l), b->grad_x(l), floats * sizeof(float)), 0) << "level " << l;
+      ASSERT_EQ(std::memcmp(a->grad_y(l), b->grad_y(l), floats * sizeof(float)), 0) << "level " << l;
+      for (std::uint32_t j = 0; j < a->tiles_per_side(); ++j) {
+        for (std::uint32_t i = 0; i < a->tiles_per_side(); ++i) {
+          const houle::TileBounds ta = a->tile(l, i, j), tb = b->tile(l, i, j);
+          ASSERT_TRUE(ta.h_min == tb.h_min && ta.h_max == tb.h_max && ta.slope_x == tb.slope_x && ta.slope_y == tb.slope_y)
+              << "level " << l << " tile " << i << ", " << j;
+        }
+      }
+    }
+    EXPECT_EQ(a->z_min(), b->z_min());
+    EXPECT_EQ(a->z_max(), b->z_max());
+  }
+}
+
 TEST(Renderer, SkyIsBlueAndSeaDarkerThanSky) {
   Renderer r = make_renderer(test_scene(), W, H, {}, 2);
   const houle::SurfaceFrame s = make_surface(3.0);
@@ -399,7 +437,9 @@ TEST(Renderer, SkyIsBlueAndSeaDarkerThanSky) {
     }
   }
   ASSERT_GT(sea_n, int(W * H / 3));
-  EXPECT_LT(sea / sea_n, 0.8 * sky / sky_n);
+  // The sand 5 m down shows through the water (docs/rendering.md 3.4): the sea is a little brighter than a
+  // bottomless one.
+  EXPECT_LT(sea / sea_n, 0.85 * sky / sky_n);
   EXPECT_GT(sea / sea_n, 0.0);
 }
 
@@ -676,6 +716,69 @@ TEST(SceneObjects, BumpyFloorMatchesADenseMarch) {
     }
   }
   EXPECT_GT(hits, 200);
+}
+
+TEST(SceneObjects, RaysReachTheLowestGround) {
+  // A beach whose deepest row continues flat beyond the grid (the extended edge): rays going down
+  // meet that ground exactly where they reach the floor's lowest height, the end of the span the walk
+  // searches. Every one of them must find it, from the full walk and from the secondary rays' jumps
+  // (rounding at the span's end used to drop about one in ten).
+  Lcg rnd{31337u};
+  const RenderScene s = floor_grid(0.0f, 0.0f, 1.0f, 60, 50, [](std::uint32_t, std::uint32_t j) { return -5.7 + 0.1 * j; });
+  auto built = SceneObjects::build(s);
+  ASSERT_TRUE(built.ok());
+  const SceneObjects& o = built.value();
+  for (int k = 0; k < 2000; ++k) {
+    const double az = 3.6 + 2.0 * rnd(), el = -0.3 - 0.8 * rnd();
+    const SceneRay r = ray_to({600.0 + 800.0 * rnd(), -200.0 - 800.0 * rnd(), 0.5 * (rnd() - 0.5)},
+                              {std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)});
+    const double expected = (-5.7f - r.oz) / r.dz;
+    const houle::detail::SurfaceHit full = o.intersect(r, 0.0, 1000.0), jumped = o.intersect_secondary(r, 0.0, 1000.0);
+    ASSERT_EQ(full.kind, HitKind::floor) << k;
+    ASSERT_EQ(jumped.kind, HitKind::floor) << k;
+    EXPECT_NEAR(full.t, expected, 1e-5 * expected) << k;
+    EXPECT_NEAR(jumped.t, expected, 1e-5 * expected) << k;
+  }
+}
+
+TEST(SceneObjects, SecondaryRaysFindIntersectsHits) {
+  // Reflected, refracted and shadow rays jump over the floor where its clearance map shows them above
+  // all of it: the same hits as intersect()'s full walk, up to the last bits of t and the normal,
+  // for rays up and down from just above the floor, from above the water, inside and outside the grid.
+  Lcg rnd{2718u};
+  RenderScene s = floor_grid(-40.0f, -10.0f, 1.0f, 120, 130, [&](std::uint32_t i, std::uint32_t j) {
+    return 2.0 - 0.1 * j + 0.8 * std::sin(0.3 * i) * std::cos(0.23 * j) + 0.4 * (rnd() - 0.5);
+  });
+  for (int k = 0; k < 6; ++k) {
+    s.boxes.push_back({{float(80.0 * rnd() - 40.0), float(120.0 * rnd()), float(2.0 * rnd() - 1.5)},
+                       {float(0.3 + 2.0 * rnd()), float(0.3 + rnd()), float(0.3 + 1.5 * rnd())}, float(6.28 * rnd()), {}});
+  }
+  auto built = SceneObjects::build(s);
+  ASSERT_TRUE(built.ok());
+  const SceneObjects& o = built.value();
+  int floor_hits = 0, misses = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const double x = -60.0 + 160.0 * rnd(), y = -30.0 + 170.0 * rnd();
+    const double ground = o.floor_height(x, y);
+    // From 1 mm to 6 m above the ground or the still water, whichever is higher.
+    const double z = std::max(ground, -0.5 + rnd()) + (k % 4 == 0 ? 1e-3 : 6.0 * rnd() * rnd());
+    const double az = 6.283185 * rnd(), el = (k % 2 ? 1.0 : -1.0) * 1.5 * rnd() * rnd();
+    const SceneRay r = ray_to({x, y, z}, {std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)});
+    const double reach = k % 3 == 0 ? 30.0 : 1000.0;
+    const houle::detail::SurfaceHit ref = o.intersect(r, 0.0, reach), h = o.intersect_secondary(r, 0.0, reach);
+    ASSERT_EQ(h.kind, ref.kind) << k << ": t " << h.t << " vs " << ref.t;
+    ASSERT_EQ(h.index, ref.index) << k;
+    EXPECT_EQ(o.occluded(r, 0.0, reach), ref.kind != HitKind::none) << k;
+    if (ref.kind == HitKind::none) {
+      ++misses;
+      continue;
+    }
+    EXPECT_NEAR(h.t, ref.t, 1e-6f * ref.t + 1e-9f) << k;
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(h.normal[std::size_t(a)], ref.normal[std::size_t(a)], 1e-5f) << k;
+    floor_hits += ref.kind == HitKind::floor;
+  }
+  EXPECT_GT(floor_hits, 5000);
+  EXPECT_GT(misses, 2000);
 }
 
 TEST(SceneObjects, PrimaryMemoGivesIntersectsBitsWhateverTheFloorCut) {

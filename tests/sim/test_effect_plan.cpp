@@ -21,7 +21,7 @@ Scene deep_flat_sea() {
   s.trains = {t, t};
   s.trains[1].direction_deg = 30.0;
   s.capillary.amplitude = 0.0;
-  s.camera = houle::ViewCamera{{50.0, -20.0, 6.0}, {50.0, 50.0, 0.0}, 50.0};
+  s.camera = houle::ViewCamera{{50.0, -20.0, 6.0}, {50.0, 50.0, 0.0}, 50.0, {}};
   return s;
 }
 

@@ -238,7 +238,7 @@ LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float 
 /// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky.
 LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
   if (quality.reflect_objects) {
-    const SurfaceHit h = objects.intersect(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
+    const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
     if (h.kind != HitKind::none) return lit_in_air(h, along(p, d, h.t), d);
   }
   return sky_radiance(d);
@@ -247,8 +247,8 @@ LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, fl
 /// Radiance arriving at p from direction d through water: eq. 12 on the floor or an object within
 /// reach, I_sea otherwise.
 LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
-  const SurfaceHit h =
-      objects.intersect(make_ray(p, offset_normal, offset, d), 0.0, double(std::min(underwater_reach, max_distance)));
+  const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0,
+                                                  double(std::min(underwater_reach, max_distance)));
   if (h.kind == HitKind::none) return sea_lit;
   const Vec3 q = along(p, d, h.t);
   return through_water(lit_in_water(h, q, d), h.t, sun_path_in_water(q));
@@ -547,6 +547,13 @@ void Renderer::fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void*
   surface.begin_fill();
   impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
     surface.fill_part(sampler, context, unsigned(part), parts);
+  });
+  // The morph and the tiles' bounds too: alone on one thread they left the other idle.
+  impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
+    surface.morph_part(unsigned(part), parts);
+  });
+  impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
+    surface.bound_part(unsigned(part), parts);
   });
   surface.finish_frame();
 }

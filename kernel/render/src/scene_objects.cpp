@@ -157,7 +157,59 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
       }
     }
   }
+  s.build_clearance();
   return s;
+}
+
+void SceneObjects::build_clearance() {
+  // Per cell, the highest sample of the cells within clear_cells of it in each axis: the maximum of
+  // the cells' corner maxima over a (2 clear_cells + 1)^2 window, separably (rows, then columns).
+  const std::int64_t cx = level_nx_[0], cy = level_ny_[0], k = clear_cells;
+  std::vector<float> corner(std::size_t(cx * cy)), rows(corner.size());
+  for (std::int64_t j = 0; j < cy; ++j) {
+    for (std::int64_t i = 0; i < cx; ++i) {
+      corner[std::size_t(j * cx + i)] =
+          std::max(std::max(sample(i, j), sample(i + 1, j)), std::max(sample(i, j + 1), sample(i + 1, j + 1)));
+    }
+  }
+  const auto window_max = [k](const float* p, std::int64_t n, std::int64_t step, std::int64_t at) {
+    float m = -std::numeric_limits<float>::infinity();
+    for (std::int64_t a = std::max<std::int64_t>(0, at - k); a <= std::min(n - 1, at + k); ++a) m = std::max(m, p[a * step]);
+    return m;
+  };
+  for (std::int64_t j = 0; j < cy; ++j) {
+    for (std::int64_t i = 0; i < cx; ++i) rows[std::size_t(j * cx + i)] = window_max(&corner[std::size_t(j * cx)], cx, 1, i);
+  }
+  clear_max_.resize(corner.size());
+  for (std::int64_t j = 0; j < cy; ++j) {
+    for (std::int64_t i = 0; i < cx; ++i) clear_max_[std::size_t(j * cx + i)] = window_max(&rows[std::size_t(i)], cy, cx, j);
+  }
+}
+
+double SceneObjects::clear_until(const SceneRay& r, double t0, double t1) const noexcept {
+  // From a point in cell c (clamped to the grid: the extended edges repeat the edge samples, and
+  // clamping moves no two points further apart), every point within clear_cells cells in each axis
+  // lies in c's window, so the floor there is at most clear_max_[c]. The ray stays that close while it
+  // moves clear_cells cells along its faster horizontal axis (less a hundredth of a cell, for the
+  // rounding of the cell's index), and, as it does not descend, cannot meet the floor there while it
+  // starts above that maximum (plus a margin far beyond the walk's rounding).
+  constexpr double margin = 1e-4;  // m
+  constexpr int max_jumps = 4;
+  const double speed = std::max(std::abs(r.dx), std::abs(r.dy));
+  const double reach = (double(clear_cells) - 0.01) * cell_ / speed;  // +inf for a vertical ray
+  const double inv_cell = level_inv_size_[0], last_i = double(level_nx_[0] - 1), last_j = double(level_ny_[0] - 1);
+  double t = t0;
+  for (int n = 0; n < max_jumps && t < t1; ++n) {
+    const double fx = (r.ox + t * r.dx - origin_x_) * inv_cell, fy = (r.oy + t * r.dy - origin_y_) * inv_cell;
+    // Clamped (NaN to 0: the z test below stops a NaN ray, which the walk then handles as before).
+    const auto i = std::size_t(fx > 0.0 ? (fx < last_i ? fx : last_i) : 0.0);
+    const auto j = std::size_t(fy > 0.0 ? (fy < last_j ? fy : last_j) : 0.0);
+    const double top = double(clear_max_[j * std::size_t(level_nx_[0]) + i]) + margin;
+    if (!(r.oz + t * r.dz > top)) break;
+    if (!(t + reach > t)) break;
+    t += reach;
+  }
+  return std::min(t, t1);
 }
 
 void SceneObjects::build_bvh() {
@@ -275,8 +327,12 @@ struct SceneObjects::FloorQuery {
 SceneObjects::FloorSpan SceneObjects::floor_span(const SceneRay& r, double t_min, double t_max, double z_lo) const noexcept {
   constexpr FloorSpan none{0.0, 0.0, 0, false};
   if (nx_ == 0) return none;
-  // Only where the ray is inside the floor's height range (and above z_lo) can it meet the floor.
-  const double lo = std::max(z_min_, z_lo), hi = z_max_;
+  // Only where the ray is inside the floor's height range (and above z_lo) can it meet the floor. The
+  // range reaches a little below the lowest ground: a ray meeting ground that lies at that height (the
+  // flat extension beyond the deepest edge) meets it at the span's very end, where rounding would
+  // keep or drop the root from one ray to the next.
+  constexpr double below = 1e-3;  // m
+  const double lo = std::max(z_min_ - below, z_lo), hi = z_max_;
   if (!(lo <= hi)) return none;
   double t0 = t_min, t1 = std::min(t_max, max_walk_distance);
   if (r.dz > 0.0) {
@@ -310,10 +366,18 @@ SceneObjects::FloorWalk SceneObjects::walk_floor(const SceneRay& r, const FloorS
   return {q.t_hit, q.cell_start, q.cell_end, q.blocks_pass};
 }
 
-double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, double z_lo,
-                               std::array<float, 3>* normal) const noexcept {
-  const FloorSpan span = floor_span(r, t_min, t_max, z_lo);
-  return span.walk ? walk_floor(r, span, t_max, normal).t : t_max;
+double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, double z_lo, std::array<float, 3>* normal,
+                               bool skip_clear) const noexcept {
+  FloorSpan span = floor_span(r, t_min, t_max, z_lo);
+  if (!span.walk) return t_max;
+  // Rays that rise (reflected rays, shadows) start low over the ground they clear; rays that descend
+  // (refracted) meet the floor within a few cells, where the jumps would cost more than they skip.
+  if (skip_clear && !(r.dz < 0.0)) {
+    span.t0 = clear_until(r, span.t0, span.t1);
+    if (!(span.t0 < span.t1)) return t_max;
+    span.level = first_level(r, span.t0, span.t1);
+  }
+  return walk_floor(r, span, t_max, normal).t;
 }
 
 double SceneObjects::farthest_end(const SceneRay& r, const FloorSpan& span, double t_max) const noexcept {
@@ -504,13 +568,22 @@ SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_m
   return hit;
 }
 
-SurfaceHit SceneObjects::intersect(const SceneRay& r, double t_min, double t_max, double floor_z_lo) const noexcept {
+SurfaceHit SceneObjects::nearest(const SceneRay& r, double t_min, double t_max, double floor_z_lo,
+                                 bool skip_clear) const noexcept {
   SurfaceHit hit = hit_objects(r, t_min, t_max);
   const double best = hit.kind == HitKind::none ? t_max : double(hit.t);
   std::array<float, 3> n{};
-  const double tf = floor_hit(r, t_min, best, floor_z_lo, &n);
+  const double tf = floor_hit(r, t_min, best, floor_z_lo, &n, skip_clear);
   if (tf < best) hit = {float(tf), HitKind::floor, 0, n};
   return hit;
+}
+
+SurfaceHit SceneObjects::intersect(const SceneRay& r, double t_min, double t_max, double floor_z_lo) const noexcept {
+  return nearest(r, t_min, t_max, floor_z_lo, false);
+}
+
+SurfaceHit SceneObjects::intersect_secondary(const SceneRay& r, double t_min, double t_max) const noexcept {
+  return nearest(r, t_min, t_max, -inf, true);
 }
 
 SurfaceHit SceneObjects::intersect_primary(const SceneRay& r, float t_max, double floor_z_lo, PrimaryMemo& memo,
@@ -657,7 +730,7 @@ SurfaceHit SceneObjects::intersect_memo(const SceneRay& r, float t_max, double f
 bool SceneObjects::occluded(const SceneRay& r, double t_min, double t_max, bool floor) const noexcept {
   // The objects are cheap next to the floor walk: test them first.
   if (hit_objects(r, t_min, t_max, true).kind != HitKind::none) return true;
-  return floor && floor_hit(r, t_min, t_max, -inf, nullptr) < t_max;
+  return floor && floor_hit(r, t_min, t_max, -inf, nullptr, true) < t_max;
 }
 
 LinearRgb SceneObjects::albedo(const SurfaceHit& hit) const noexcept {

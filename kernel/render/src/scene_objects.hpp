@@ -65,6 +65,12 @@ class SceneObjects {
   /// above floor_z_lo (m): a primary ray below the sea's slab has crossed the sea already.
   SurfaceHit intersect(const SceneRay& ray, double t_min, double t_max,
                        double floor_z_lo = -std::numeric_limits<double>::infinity()) const noexcept;
+  /// The nearest hit with t in [t_min, t_max) of a secondary ray (reflected, refracted): intersect's
+  /// hit, found by a floor walk that starts where the floor's clearance map (the highest ground
+  /// around each cell) no longer shows the ray above all of it. The hit is the same one; its t and
+  /// normal may differ from intersect's in the last bits of the double arithmetic (the walk enters
+  /// the hit's cell from another start).
+  SurfaceHit intersect_secondary(const SceneRay& ray, double t_min, double t_max) const noexcept;
   /// intersect(ray, 0, t_max, floor_z_lo), bit for bit, from what `memo` knows when it covers
   /// floor_z_lo, else with a walk that `memo` then remembers (`reused` tells which). `refill`
   /// starts `memo` afresh; without it, `memo` must hold earlier calls' for the same ray and t_max (a
@@ -73,7 +79,7 @@ class SceneObjects {
   SurfaceHit intersect_primary(const SceneRay& ray, float t_max, double floor_z_lo, PrimaryMemo& memo, bool refill,
                                bool& reused) const noexcept;
   /// Whether anything lies on the ray with t in [t_min, t_max) (shadow rays); the floor only when
-  /// `floor` is set.
+  /// `floor` is set (walked from its clearance, as intersect_secondary does).
   bool occluded(const SceneRay& ray, double t_min, double t_max, bool floor = true) const noexcept;
   /// Moves box `k` or sphere `k` (one with motion > 0; others are left alone): the centre is clamped
   /// to within its motion of its place in the scene, per axis.
@@ -112,6 +118,8 @@ class SceneObjects {
   bool meets_movers(const SceneRay& ray, double t_max) const noexcept;
   SurfaceHit intersect_memo(const SceneRay& ray, float t_max, double floor_z_lo, PrimaryMemo& memo, bool refill,
                             bool& reused) const noexcept;
+  /// intersect (skip_clear false) or intersect_secondary (true).
+  SurfaceHit nearest(const SceneRay& ray, double t_min, double t_max, double floor_z_lo, bool skip_clear) const noexcept;
   /// Nearest box or sphere hit in [t_min, t_max) (with `any`: the first found).
   SurfaceHit hit_objects(const SceneRay& ray, double t_min, double t_max, bool any = false) const noexcept;
   bool hit_box(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
@@ -139,9 +147,13 @@ class SceneObjects {
   /// height range or t_max, or the end beyond which the first level would change.
   double farthest_end(const SceneRay& ray, const FloorSpan& span, double t_max) const noexcept;
   /// Nearest floor hit in [t_min, t_max) where the ray is at or above z_lo (t_max when none); writes
-  /// the normal on a hit when `normal` is not null.
-  double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo,
-                   std::array<float, 3>* normal) const noexcept;
+  /// the normal on a hit when `normal` is not null. With `skip_clear` the walk starts at clear_until.
+  double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo, std::array<float, 3>* normal,
+                   bool skip_clear) const noexcept;
+  /// For a ray that does not descend: a t in [t0, t1] before which it provably stays above the floor
+  /// (t1: above it all along), from the clearance map in at most a few jumps of clear_cells cells.
+  double clear_until(const SceneRay& ray, double t0, double t1) const noexcept;
+  void build_clearance();
   float sample(std::int64_t i, std::int64_t j) const noexcept;
   struct FloorQuery;
   bool walk_level(int level, FloorQuery& q, double ta, double tb, std::int64_t steps) const noexcept;
@@ -172,6 +184,10 @@ class SceneObjects {
   std::int64_t level_nx_[max_levels] = {}, level_ny_[max_levels] = {};
   std::vector<float> level_max_[max_levels];
   double level_size_[max_levels] = {}, level_inv_size_[max_levels] = {};  // m and 1/m: cell_ B^k
+  // The clearance map: per floor cell (level 0's), the highest sample within clear_cells cells of it
+  // in each axis (a dilated maximum), over which secondary rays jump instead of walking.
+  static constexpr int clear_cells = 4;
+  std::vector<float> clear_max_;
   double z_min_ = -std::numeric_limits<double>::infinity(), z_max_ = -std::numeric_limits<double>::infinity();
   LinearRgb sand_{};
 };

@@ -56,13 +56,15 @@ class Animation {
   static Expected<Animation> create(const Scene& scene, const Quality& quality, std::uint32_t width,
                                     std::uint32_t height, unsigned threads);
 
-  /// Renders the frame at `time_s` into `out` (width x height), the floating objects posed on the sea
-  /// at that time. No heap allocation after the first frame.
+  /// Renders the frame at `time_s` into `out` (width x height), seen by the camera at that time (a
+  /// moving camera: camera_path.hpp), the floating objects posed on the sea at that time. No heap
+  /// allocation after the first frame.
   void render(double time_s, Framebuffer& out) noexcept;
 
   const AnimationTimes& last_times() const noexcept { return times_; }
   const WaveField& waves() const noexcept { return *waves_; }
   const Renderer& renderer() const noexcept { return renderer_; }
+  /// The camera of the last frame (before any: of time 0).
   const Camera& camera() const noexcept { return camera_; }
   double build_ms() const noexcept { return build_ms_; }
   /// Frames that built a capillary noise frame: 0 when the effect plan skips the noise.
@@ -78,6 +80,9 @@ class Animation {
   Camera camera_{};
   std::vector<FloatingObject> floating_;
   double float_bound_ = 0.0;  ///< m, the sea's height bound: no floating object heaves beyond it
+  ViewCamera view_;  ///< the scene's camera, with its keys when it moves (camera_path.hpp)
+  std::uint32_t width_ = 0, height_ = 0;
+  void set_camera(double time_s) noexcept;
   std::optional<CapillaryParams> noise_params_;
   CapillaryFrame noise_{};
   AnimationTimes times_{};

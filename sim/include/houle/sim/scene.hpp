@@ -187,10 +187,21 @@ struct Sky {
   double turbidity = 3.0;  ///< Preetham turbidity, in [1.7, 10]
 };
 
+/// Where a moving camera is at one time (docs/scenes.md, [[camera.keys]]).
+struct CameraKey {
+  double time = 0.0;  ///< s of scene time; keys in strictly increasing time
+  Point3 position{};
+  Point3 look_at{};
+  std::optional<double> vertical_fov_deg;  ///< in (0, 180); the [camera] one when not given
+};
+
 struct ViewCamera {
   Point3 position{100.0, -20.0, 6.0};
   Point3 look_at{100.0, 80.0, 0.0};
   double vertical_fov_deg = 50.0;  ///< in (0, 180)
+  /// Empty: the camera stands still at position. Else it follows these keys (camera_path.hpp) and
+  /// position and look_at are not used.
+  std::vector<CameraKey> keys;
 };
 
 struct Water {

@@ -111,6 +111,7 @@ extern const Section<Sphere> spheres;
 extern const Section<Sun> sun;
 extern const Section<Sky> sky;
 extern const Section<ViewCamera> camera;
+extern const Section<CameraKey> camera_path;
 extern const Section<Water> water;
 extern const Section<DwtSettings> dwt;
 
@@ -132,6 +133,7 @@ void for_each_section(Visit&& visit) {
   visit(sun);
   visit(sky);
   visit(camera);
+  visit(camera_path);
   visit(water);
   visit(dwt);
 }
