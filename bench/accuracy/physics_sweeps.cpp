@@ -10,6 +10,10 @@
 //   diffraction.hpp): mean and max |K - K_exact| over r/L in [0.5, 10], every angle; ns per
 //   coefficient. The float A&S path (sommerfeld_field_fg, the candidate for a float kernel) is a
 //   fourth point.
+// - Sea-state components (docs/physics.md 2.9) on the built-in coast with a JONSWAP sea instead of its
+//   trains: the Hs map (4 sqrt(sum |B|^2 / 2) over the trains, on a 1 m lattice of the domain) of N
+//   components against the one of 256, RMS and max in m; the time is the scene build and the
+//   frame's surface fill (realtime, 2 threads), which grow with N.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -260,6 +264,97 @@ void sweep_diffraction(const Options& o, std::vector<Row>& rows) {
   }
 }
 
+// ---- Sea-state components -----------------------------------------------------------------------
+
+Scene coast_sea_state(std::uint32_t components) {
+  Scene s = builtin_coast();
+  s.trains.clear();
+  SeaState sea;
+  sea.significant_height = 0.8;
+  sea.peak_period = 6.0;
+  sea.direction_deg = 80.0;
+  sea.spread_deg = 20.0;
+  sea.components = components;
+  s.sea_states = {sea};
+  // Caps near what a component needs, so that the memory estimate admits 128 traced components.
+  s.dwt.max_rays = 4096;
+  s.dwt.max_samples = 131072;
+  const Expected<Scene> valid = validate(s);
+  if (!valid) fail(valid.error());
+  return valid.value();
+}
+
+/// Hs (m) at each point of the 1 m lattice of the domain, from the scene's sea at `cell` m.
+std::vector<double> hs_map(const Scene& scene, float cell, unsigned threads) {
+  Expected<WaveField> field = trace_wave_field(scene, threads);
+  if (!field) fail(field.error());
+  Expected<SeaSurface> sea = SeaSurface::build(scene, field.value(), cell, SeaParts::drop, threads);
+  if (!sea) fail(sea.error());
+  std::vector<double> hs;
+  for (double py = scene.domain.y_min + 0.5; py < scene.domain.y_max; py += 1.0) {
+    for (double px = scene.domain.x_min + 0.5; px < scene.domain.x_max; px += 1.0) {
+      double variance = 0.0;
+      for (std::size_t t = 0; t < sea->trains().size(); ++t) {
+        const double a = sea->probe(t, float(px), float(py)).amplitude;
+        variance += 0.5 * a * a;
+      }
+      hs.push_back(4.0 * std::sqrt(variance));
+    }
+  }
+  return hs;
+}
+
+void sweep_components(const Options& o, std::vector<Row>& rows) {
+  const std::uint32_t reference = o.smoke ? 4 : 256;
+  const float cell = quality_preset(QualityPreset::draft).sea_cell;
+  const std::vector<double> ref = hs_map(coast_sea_state(reference), cell, o.threads);
+  std::fprintf(stderr, "sea_state.components: reference %u\n", reference);
+  const std::vector<std::uint32_t> counts = o.smoke ? std::vector<std::uint32_t>{2} : std::vector<std::uint32_t>{4, 8, 16, 24, 32, 48, 64, 128};
+  const std::uint32_t scene_default = SeaState{}.components;
+  for (std::uint32_t n : counts) {
+    const Scene scene = coast_sea_state(n);
+    const std::vector<double> hs = hs_map(scene, cell, o.threads);
+    double se = 0.0, worst = 0.0;
+    for (std::size_t i = 0; i < hs.size(); ++i) {
+      se += (hs[i] - ref[i]) * (hs[i] - ref[i]);
+      worst = std::max(worst, std::abs(hs[i] - ref[i]));
+    }
+    // Build and frames at realtime: the fastest of the repeats per frame, the median over the frames.
+    Expected<Animation> a = Animation::create(scene, quality_preset(QualityPreset::realtime), o.width, o.height, o.threads);
+    if (!a) fail(a.error());
+    Framebuffer fb(int(o.width), int(o.height));
+    std::vector<double> frame, surface;
+    for (int f = 0; f < o.frames; ++f) {
+      double best_frame = INFINITY, best_surface = INFINITY;
+      for (int k = 0; k < o.timing_repeats; ++k) {
+        const auto t0 = Clock::now();
+        a->render(0.7 + 1.3 * f, fb);
+        best_frame = std::min(best_frame, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        best_surface = std::min(best_surface, a->last_times().surface_ms);
+      }
+      frame.push_back(best_frame);
+      surface.push_back(best_surface);
+    }
+    Row r;
+    r.knob = "sea_state.components";
+    r.value = n;
+    r.presets = n == scene_default ? "all (scene default)" : "";
+    r.time = a->build_ms();
+    r.time_what = "scene build, realtime (ms)";
+    r.frame_ms = median(frame);
+    r.error = std::sqrt(se / double(hs.size()));
+    r.error_what = "RMS Hs (m)";
+    r.error2 = worst;
+    r.error2_what = "max |Hs - Hs_ref| (m)";
+    char ref_text[128];
+    std::snprintf(ref_text, sizeof ref_text, "%u components, built-in coast under Hs 0.8 m, Tp 6 s, spread 20 deg", reference);
+    r.reference = ref_text;
+    std::fprintf(stderr, "  %u: build %.0f ms, frame %.1f ms (surface %.1f ms), Hs RMS %.4f m, max %.4f m\n", n, r.time,
+                 r.frame_ms, median(surface), r.error, worst);
+    rows.push_back(std::move(r));
+  }
+}
+
 }  // namespace
 
 std::vector<Row> sweep_physics_knobs(const Options& o) {
@@ -267,6 +362,7 @@ std::vector<Row> sweep_physics_knobs(const Options& o) {
   if (o.only.empty() || o.only == "diffraction.model") sweep_diffraction(o, rows);
   if (o.only.empty() || o.only == "wave_model") sweep_wave_model(o, rows);
   sweep_dwt(o, rows);
+  if (o.only.empty() || o.only == "sea_state.components") sweep_components(o, rows);
   return rows;
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <numeric>
 #include <thread>
 
 #include "houle/sim/animation.hpp"
@@ -93,6 +95,31 @@ void take_threads(Args& args, unsigned& threads) {
 }
 
 unsigned default_threads() { return std::clamp(std::thread::hardware_concurrency(), 1u, 256u); }
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(static_cast<unsigned char>(c)));
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::pair<int, int> frame_rate_ratio(double fps) {
+  if (std::abs(fps - std::round(fps)) < 1e-9 * fps) return {int(std::lround(fps)), 1};
+  // The NTSC family (23.976, 29.97, 59.94) as broadcast defines it.
+  if (const double n = fps * 1001.0 / 1000.0; n >= 0.5 && std::abs(n - std::round(n)) < 1e-4) return {int(std::lround(n)) * 1000, 1001};
+  const long long num = std::max(std::llround(fps * 1e6), 1ll), g = std::gcd(num, 1000000ll);
+  return {int(num / g), int(1000000ll / g)};
+}
 
 std::optional<double> parse_double(std::string_view text) {
   double v = 0.0;

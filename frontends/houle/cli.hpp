@@ -56,6 +56,13 @@ void take_threads(Args& args, unsigned& threads);
 /// at least 1 and at most 256. Frames do not depend on it (docs/design.md 9).
 unsigned default_threads();
 
+/// A JSON string literal of `s` (quotes, backslashes and control characters escaped).
+std::string json_string(const std::string& s);
+
+/// --fps as the ratio file headers hold (y4m's F, EXR's framesPerSecond): 30 -> 30/1, 29.97 and
+/// 30000 / 1001.0 -> 30000/1001, otherwise the nearest millionths, reduced.
+std::pair<int, int> frame_rate_ratio(double fps);
+
 std::optional<double> parse_double(std::string_view text);
 std::optional<long long> parse_int(std::string_view text);
 /// Image sizes houle accepts: each side at most max_image_side, at most max_image_pixels in all.

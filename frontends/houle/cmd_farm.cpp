@@ -495,6 +495,7 @@ int farm_slurm(std::span<char* const> argv) {
   if (!chunk && !args.failed()) args.fail("--chunk N (frames per array task) is required");
   if (int(dry_run) + int(submit_it) + int(local.has_value()) > 1) args.fail("--dry-run, --submit and --local exclude each other");
   if (raw && *raw == "-") args.fail("--raw needs a file: the tasks' parts are joined into it");
+  if (o.y4m) args.fail("--y4m is one stream behind one header: farm --raw frames, then convert them");
   for (const char* a : argv) {
     if (std::strchr(a, '\n') != nullptr) args.fail("an argument holds a line break, which the script cannot carry");
   }
@@ -504,16 +505,10 @@ int farm_slurm(std::span<char* const> argv) {
     return 2;
   }
   if (!scene_from_args(positionals, "farm slurm")) return 2;
-  // The output's folder must be there (the tasks make the default frames/, as houle render does).
-  const Expected<std::string> first_file = raw ? Expected<std::string>(*raw) : format_frame_name(o.out, o.first);
-  if (!first_file) {
-    std::fprintf(stderr, "houle farm slurm: %s: %s\n", o.out.c_str(), first_file.error().message.c_str());
-    return 2;
-  }
-  if (const fs::path folder = fs::path(first_file.value()).parent_path();
-      (raw || !o.default_out) && !folder.empty() && !fs::is_directory(folder)) {
-    std::fprintf(stderr, "houle farm slurm: %s: the folder %s does not exist\n", (raw ? *raw : o.out).c_str(),
-                 folder.c_str());
+  // The output as houle render checks it: an image sequence's folder is made by the tasks (it or the
+  // nearest folder above must take it), a raw file's folder must be there.
+  if (Expected<void> ok = raw ? check_raw_output(*raw) : check_image_output(o.out, o.format == PixelFormat::rgbf32); !ok) {
+    std::fprintf(stderr, "houle farm slurm: %s: %s\n", ok.error().field.c_str(), ok.error().message.c_str());
     return 2;
   }
 

@@ -21,24 +21,6 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// A JSON string literal of `s` (quotes, backslashes and control characters escaped).
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(static_cast<unsigned char>(c)));
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
 template <class T>
 std::size_t bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
@@ -216,9 +198,10 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
     const WaveRays& w = field->trains[i];
     const double omega = train_omega(t);
     const Point2 d = train_direction(t);
-    std::printf("  [%zu] period %.3g s, deep-water wavelength %.4g m, amplitude %g m, towards %.1f deg\n", i,
+    const std::string origin = t.sea_state >= 0 ? ", of sea_states[" + std::to_string(t.sea_state) + "]" : "";
+    std::printf("  [%zu] period %.3g s, deep-water wavelength %.4g m, amplitude %g m, towards %.1f deg%s\n", i,
                 2.0 * std::numbers::pi / omega, 2.0 * std::numbers::pi * 9.81 / (omega * omega), t.amplitude,
-                std::atan2(d.y, d.x) * 180.0 / std::numbers::pi);
+                std::atan2(d.y, d.x) * 180.0 / std::numbers::pi, origin.c_str());
     if (plan.train_rays[i]) {
       std::printf("      traced: %zu rays, %zu samples\n", w.ray_count(), w.sample_count());
       const TrainField& f = sea->trains()[i];
@@ -233,7 +216,10 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
   for (const ReflectedWave& r : field->reflections) {
     std::printf("  reflected wave of [%zu]: %zu rays, %zu samples\n", r.train, r.rays.ray_count(), r.rays.sample_count());
   }
-  std::printf("walls: %zu, boxes: %zu, spheres: %zu\n", s.walls.size(), s.boxes.size(), s.spheres.size());
+  const auto floating = std::count_if(s.boxes.begin(), s.boxes.end(), [](const Box& b) { return b.floats; }) +
+                        std::count_if(s.spheres.begin(), s.spheres.end(), [](const Sphere& b) { return b.floats; });
+  std::printf("walls: %zu, boxes: %zu, spheres: %zu (%zu floating)\n", s.walls.size(), s.boxes.size(), s.spheres.size(),
+              std::size_t(floating));
   for (const std::string& w : warnings) std::printf("warning: %s\n", w.c_str());
   std::printf("capillary ripples: %s\n", s.capillary.amplitude > 0.0 ? "on" : "off");
   std::printf("effect plan (%s): ray tracing %s, wave model %s (%s), diffraction %s, wall reflection %s, capillary noise %s, "

@@ -5,24 +5,17 @@
 
 #include "cli.hpp"
 #include "commands.hpp"
-#include "houle/sim/animation.hpp"
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/scene_geometry.hpp"
 #include "houle/sim/sea_surface.hpp"
+#include "probe_sea.hpp"
 #include "scene_source.hpp"
 
 namespace houle::cli {
 namespace {
 
-// Positions are floats: 100 km out they still resolve 8 mm, a small fraction of the shortest
-// wavelength; at 1e9 m the resolution is 64 m and the height is noise, then inf and NaN.
-constexpr double max_probe_distance = 100e3;  // m outside the domain
 // Points x times: a bound on the output (16 trains a row in CSV make 16 million lines at most).
 constexpr std::size_t max_probes = 1000000;
-
-double distance_outside(const Domain& d, double x, double y) {
-  return std::max({d.x_min - x, x - d.x_max, d.y_min - y, y - d.y_max, 0.0});
-}
 
 // A number for JSON (which has no NaN or infinity: such a value is `none`, null) or CSV (empty).
 std::string number(double v, const char* none) {
@@ -154,24 +147,9 @@ the values the surface evaluates everywhere, with `where` beside them.)");
       return 2;
     }
   }
-  const float sea_cell = Quality{}.sea_cell;  // the realtime quality's resampling grid
-  if (const Expected<void> fits = check_build_memory(*scene, sea_cell, 0); !fits) {
-    std::fprintf(stderr, "houle probe: %s: %s: %s\n", scene_name(positionals).c_str(), fits.error().field.c_str(),
-                 fits.error().message.c_str());
-    return 2;
-  }
-  Expected<WaveField> field = trace_wave_field(*scene, 2);
-  if (!field) {
-    std::fprintf(stderr, "houle probe: %s: %s: %s\n", scene_name(positionals).c_str(), field.error().field.c_str(),
-                 field.error().message.c_str());
-    return 2;
-  }
-  warn_if_truncated("probe", scene_name(positionals), field.value());
-  Expected<SeaSurface> sea = SeaSurface::build(*scene, field.value(), sea_cell, SeaParts::keep, 2);
-  if (!sea) {
-    std::fprintf(stderr, "houle probe: %s\n", sea.error().message.c_str());
-    return 1;
-  }
+  int exit_code = 0;
+  std::optional<SeaSurface> sea = build_probe_sea(*scene, scene_name(positionals), "probe", exit_code);
+  if (!sea) return exit_code;
   const Bathymetry floor(scene->floor);
   if (format == Format::json) std::printf("[");
   if (format == Format::csv) {

@@ -35,8 +35,20 @@ options:
                           same for any count
   --out PATTERN           image sequence through OpenImageIO, one %d-style frame number in the name
                           (default frames/%04d.png; its folder is made): .png/.jpg/.tif are 8-bit sRGB,
-                          .exr linear half float, .hdr/.pfm linear float (extensions in any case)
+                          .exr linear half float, .hdr/.pfm linear float (extensions in any case);
+                          EXR headers hold the camera (worldToCamera, worldToNDC), framesPerSecond,
+                          Software, houle:frame and houle:time (s); no date: a frame's file is the
+                          same bytes on every render
+  --aov LIST              EXR only: channels beside R, G, B from z, normal, alpha, sea: Z (32-bit, m
+                          along the view axis to the first surface, inf for none), N.X N.Y N.Z (its
+                          world-space normal, facing the camera), A (share of the pixel's samples that
+                          meet something: 0 for sky), sea (share that meet the sea surface)
   --raw PATH|-            raw frames, tightly packed, top row first, to a file or standard output
+  --y4m PATH|-            a YUV4MPEG2 stream (for ffmpeg -i -, ffprobe, mpv, x264: the header gives the
+                          size and rate): BT.709 Y'CbCr in limited range (XCOLORRANGE=LIMITED) from
+                          the tone-mapped sRGB frames
+  --y4m-chroma 420|444    chroma subsampling of --y4m: 420 (default; one chroma sample per 2x2 pixels,
+                          centred) or 444
   --pixel-format F        raw pixel format, ffmpeg's names: rgb24 (default), rgba, bgra (sRGB; rgba8 and
                           bgra8 too) or rgbf32 (linear floats); with --out only rgbf32, for linear
                           32-bit float images (.tif/.tiff as float TIFF, .exr in full float)
@@ -51,8 +63,9 @@ options:
 Progress goes to stderr: one updated line on a terminal, else a line a second; a last line gives
 the frames, the elapsed time and the mean frame rate.
 
-raw frames into ffmpeg:
+into ffmpeg, as raw frames or as a y4m stream that says its own size and rate:
   houle render --frames 240 --raw - | ffmpeg -f rawvideo -pix_fmt rgb24 -s 640x360 -r 30 -i - -pix_fmt yuv420p out.mp4
+  houle render --frames 240 --y4m - | ffmpeg -i - -colorspace bt709 -color_primaries bt709 -color_trc bt709 out.mp4
 Ctrl-C, SIGTERM (a Slurm job cancelled or out of time) or SIGHUP stops after the current frame; every
 frame written is complete. houle farm spreads a frame range over many machines.)";
 
@@ -85,9 +98,10 @@ int cmd_render(std::span<char* const> argv) {
     std::fprintf(stderr, "houle %s\n", args.error().message.c_str());
     return 2;
   }
+  const std::optional<std::string> stream = o.raw ? o.raw : o.y4m;  // frames into one file or a pipe
   // The output is checked before the scene is built, and opened after: a refused scene leaves an
   // existing output untouched.
-  if (Expected<void> ok = o.raw ? check_raw_output(*o.raw) : check_image_output(o.out, o.format == PixelFormat::rgbf32); !ok) {
+  if (Expected<void> ok = stream ? check_raw_output(*stream) : check_image_output(o.out, o.format == PixelFormat::rgbf32); !ok) {
     std::fprintf(stderr, "houle render: %s: %s\n", ok.error().field.c_str(), ok.error().message.c_str());
     return 2;
   }
@@ -95,9 +109,9 @@ int cmd_render(std::span<char* const> argv) {
   FrameRuns todo{{o.first, o.last}};
   if (o.skip_existing) {
     std::vector<std::string> stale;
-    if (o.raw) {
-      if (std::filesystem::exists(*o.raw)) todo.clear();
-      stale = temp_files_of(*o.raw);
+    if (stream) {
+      if (std::filesystem::exists(*stream)) todo.clear();
+      stale = temp_files_of(*stream);
     } else if (Expected<std::string> name = format_frame_name(o.out, o.first); !name) {
       std::fprintf(stderr, "houle render: %s: %s\n", name.error().field.c_str(), name.error().message.c_str());
       return 2;
@@ -115,7 +129,7 @@ int cmd_render(std::span<char* const> argv) {
     if (todo.empty()) {
       // Before the scene is built: a resubmitted farm task with nothing to do ends at once.
       if (!o.quiet) std::fprintf(stderr, "houle render: frames %ld:%ld already complete in %s\n", o.first, o.last,
-                                 (o.raw ? *o.raw : o.out).c_str());
+                                 (stream ? *stream : o.out).c_str());
       return 0;
     }
   }
@@ -131,8 +145,9 @@ int cmd_render(std::span<char* const> argv) {
   }
   warn_if_truncated("render", scene_name(positionals), anim.value().waves());
   Expected<std::unique_ptr<FrameWriter>> writer =
-      o.raw ? make_raw_writer(*o.raw, o.format.value_or(PixelFormat::rgb24), o.width, o.height, o.skip_existing)
-            : make_image_writer(o.out, o.width, o.height, o.format == PixelFormat::rgbf32);
+      o.raw   ? make_raw_writer(*o.raw, o.format.value_or(PixelFormat::rgb24), o.width, o.height, o.skip_existing)
+      : o.y4m ? make_y4m_writer(*o.y4m, o.width, o.height, o.fps, o.y4m_chroma, o.skip_existing)
+              : make_image_writer(o.out, o.width, o.height, o.format == PixelFormat::rgbf32, {o.fps, anim->camera(), o.aovs});
   if (!writer) {
     std::fprintf(stderr, "houle render: %s: %s\n", writer.error().field.c_str(), writer.error().message.c_str());
     return 2;
@@ -142,7 +157,7 @@ int cmd_render(std::span<char* const> argv) {
 
   // From here on a stop ends the run after a complete frame (and a --raw file written whole is removed).
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_stop_signal);
-  Framebuffer fb(o.width, o.height);
+  Framebuffer fb(o.width, o.height, o.aovs);
   const ToneMap tm{o.exposure};
   const auto start = std::chrono::steady_clock::now();
   const long total = count_frames(todo), skipped = o.last - o.first + 1 - total;
@@ -189,7 +204,7 @@ int cmd_render(std::span<char* const> argv) {
   if (live) std::fputc('\n', stderr);
   if (interrupted) {
     std::fprintf(stderr, "houle render: interrupted after %ld complete frames%s%s\n", done, summary().c_str(),
-                 o.raw && o.skip_existing ? " (not kept: with --skip-existing a --raw file is written whole)" : "");
+                 stream && o.skip_existing ? " (not kept: with --skip-existing a --raw file is written whole)" : "");
     return 128 + interrupted;  // as the shell reports a process the signal ended
   }
   if (writer.value()->finish() == WriteStatus::failed) {
@@ -197,7 +212,7 @@ int cmd_render(std::span<char* const> argv) {
     return 1;
   }
   if (!o.quiet) {
-    const std::string to = !o.raw ? o.out : *o.raw == "-" ? "standard output" : *o.raw;
+    const std::string to = !stream ? o.out : *stream == "-" ? "standard output" : *stream;
     std::fprintf(stderr, "houle render: %ld frames written to %s%s", done, to.c_str(), summary().c_str());
     if (skipped > 0) std::fprintf(stderr, " (%ld already complete, skipped)", skipped);
     std::fputc('\n', stderr);

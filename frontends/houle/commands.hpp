@@ -9,6 +9,7 @@ int cmd_validate(std::span<char* const> args);
 int cmd_info(std::span<char* const> args);
 int cmd_render(std::span<char* const> args);
 int cmd_probe(std::span<char* const> args);
+int cmd_map(std::span<char* const> args);
 int cmd_bench(std::span<char* const> args);
 int cmd_farm(std::span<char* const> args);
 

@@ -2,6 +2,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cstdio>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -19,19 +20,44 @@ int can_write(const char* name, char* error, std::size_t error_size) {
   return fail(OIIO::geterror(), error, error_size);
 }
 
-int write_rgb(const char* path, const char* format_name, int width, int height, int storage, const void* pixels, char* error,
-              std::size_t error_size) {
-  const bool linear = storage != houle::cli::srgb8;
-  OIIO::ImageSpec spec(width, height, 3,
-                       storage == houle::cli::linear_half    ? OIIO::TypeDesc::HALF
-                       : storage == houle::cli::linear_float ? OIIO::TypeDesc::FLOAT
-                                                             : OIIO::TypeDesc::UINT8);
+OIIO::TypeDesc type_of(int storage) {
+  return storage == houle::cli::linear_half    ? OIIO::TypeDesc::HALF
+         : storage == houle::cli::linear_float ? OIIO::TypeDesc::FLOAT
+                                               : OIIO::TypeDesc::UINT8;
+}
+
+int write_image(const char* path, const char* format_name, const houle::cli::ImageLayout* layout, const void* pixels,
+                const houle::cli::ImageAttribute* attributes, int attribute_count, char* error, std::size_t error_size) {
+  using houle::cli::ImageAttribute;
+  const bool bytes = layout->storage[0] == houle::cli::srgb8;
+  OIIO::ImageSpec spec(layout->width, layout->height, layout->channels, type_of(layout->storage[0]));
+  spec.channelnames.assign(layout->names, layout->names + layout->channels);
+  bool mixed = false;
+  for (int c = 0; c < layout->channels; ++c) {
+    mixed = mixed || layout->storage[c] != layout->storage[0];
+    if (spec.channelnames[std::size_t(c)] == "A") spec.alpha_channel = c;
+    if (spec.channelnames[std::size_t(c)] == "Z") spec.z_channel = c;
+  }
+  if (mixed) {  // EXR: e.g. half colour beside a float Z
+    for (int c = 0; c < layout->channels; ++c) spec.channelformats.push_back(type_of(layout->storage[c]));
+  }
   // zlib level 1: PNG writing dominated frame time at the default 6 (docs/design.md 11: 45 vs 14 ms).
   spec.attribute("png:compressionLevel", 1);
-  spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
+  spec.attribute("oiio:ColorSpace", bytes ? "sRGB" : "Linear");
+  // Without a DateTime OpenImageIO stamps the time of writing, and two renders of a frame differ.
+  spec.attribute("DateTime", "");
+  for (const ImageAttribute& a : std::span(attributes, std::size_t(attribute_count))) {
+    switch (a.type) {
+      case ImageAttribute::text: spec.attribute(a.name, a.string); break;
+      case ImageAttribute::integer: spec.attribute(a.name, a.ints[0]); break;
+      case ImageAttribute::real: spec.attribute(a.name, OIIO::TypeDesc::DOUBLE, &a.number); break;
+      case ImageAttribute::matrix44: spec.attribute(a.name, OIIO::TypeDesc::TypeMatrix44, a.floats); break;
+      case ImageAttribute::rational: spec.attribute(a.name, OIIO::TypeDesc::TypeRational, a.ints); break;
+    }
+  }
   auto out = OIIO::ImageOutput::create(format_name);
   if (!out) return fail(OIIO::geterror(), error, error_size);
-  bool ok = out->open(path, spec) && out->write_image(linear ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8, pixels);
+  bool ok = out->open(path, spec) && out->write_image(bytes ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT, pixels);
   ok = out->close() && ok;
   return ok ? 0 : fail(out->geterror(), error, error_size);
 }
@@ -53,7 +79,7 @@ int read_first_channel(const char* path, void* context, float* (*allocate)(void*
   return 0;
 }
 
-constexpr houle::cli::ImageModule module{can_write, write_rgb, read_first_channel};
+constexpr houle::cli::ImageModule module{can_write, write_image, read_first_channel};
 
 }  // namespace
 

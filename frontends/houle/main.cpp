@@ -18,6 +18,8 @@ commands:
   render [SCENE]        render an animation to images or raw frames (the built-in coast without SCENE)
   probe [SCENE] --at X,Y[,T]   where points lie, the depth, wave height, gradient and per-train amplitude,
                         wavelength, direction at points and times (--times T0:T1:DT; --json or --csv)
+  map [SCENE] --grid X0:X1:DX,Y0:Y1:DY --out FILE.exr|.csv   depth, Hs and per-train amplitude, K',
+                        reflected amplitude, wavelength, direction on a grid (--fields)
   bench [SCENE]         frame-time median, p90, p99, max and per-stage times over N frames
   validate SCENE        check a scene file; errors give file:line:column and what was expected
   info [SCENE]          describe a scene (the built-in coast without SCENE); warns of islands and of
@@ -59,6 +61,7 @@ int main(int argc, char** argv) {
   if (cmd == "info") return houle::cli::cmd_info(rest);
   if (cmd == "render") return houle::cli::cmd_render(rest);
   if (cmd == "probe") return houle::cli::cmd_probe(rest);
+  if (cmd == "map") return houle::cli::cmd_map(rest);
   if (cmd == "bench") return houle::cli::cmd_bench(rest);
   if (cmd == "farm") return houle::cli::cmd_farm(rest);
   std::fprintf(stderr, "houle: unknown command '%.*s' (see houle --help)\n", int(cmd.size()), cmd.data());

@@ -7,6 +7,7 @@
 #include "cli.hpp"
 #include "houle/render/framebuffer.hpp"
 #include "houle/sim/animation.hpp"
+#include "y4m.hpp"
 
 namespace houle::cli {
 
@@ -19,6 +20,9 @@ struct RenderOptions {
   std::string out = "frames/%04d.png";
   bool default_out = true;
   std::optional<std::string> raw;
+  std::optional<std::string> y4m;        ///< a YUV4MPEG2 stream (y4m.hpp) to a file or "-"
+  Y4mChroma y4m_chroma = Y4mChroma::c420;
+  FrameAovs aovs;                        ///< EXR channels beside R, G, B (--aov)
   std::optional<PixelFormat> format;  ///< raw: default rgb24; images: only rgbf32 (32-bit float files)
   float exposure = 1.0f;
   bool skip_existing = false;

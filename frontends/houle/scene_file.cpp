@@ -241,7 +241,7 @@ class Reader {
   std::set<std::string> read_;
 };
 
-// One table of a section into `item`, key by key as scene_keys lists them.
+// One table of a section into `item`, key by key as scene_keys lists them (the caller finishes `r`).
 template <class S>
 void read_keys(Reader& r, const scene_keys::Section<S>& section, S& item, Context& ctx) {
   for (const scene_keys::Key<S>& k : section.keys) {
@@ -254,12 +254,12 @@ void read_keys(Reader& r, const scene_keys::Section<S>& section, S& item, Contex
         k.member);
     if (k.required && !r.has(k.name)) ctx.fail(r.where(), r.field(k.name), "required, missing: " + std::string(k.doc));
   }
-  r.finish();
 }
 
 void read_height_map(Reader& r, SeaFloor& floor, Context& ctx) {
   HeightMapFile file;
   read_keys(r, scene_keys::height_map, file, ctx);
+  r.finish();  // an unknown key before the image is loaded
   if (ctx.error) return;
   if (auto e = scene_keys::check_keys(scene_keys::height_map, file, std::string(scene_keys::height_map.path)); !e) {
     ctx.fail(ctx.place(e.error().field), e.error().field, e.error().message);
@@ -270,8 +270,8 @@ void read_height_map(Reader& r, SeaFloor& floor, Context& ctx) {
   floor.height_map = std::move(map.value());
 }
 
-// The tables that hold sections ("" the root, "floor"), each read once and finished after the
-// sections: a key none of them reads is unknown.
+// The tables that hold sections ("" the root, "floor", "camera"), each read once and finished after
+// the sections: a key none of them reads is unknown.
 class Tables {
  public:
   Tables(const toml::table& root, Context& ctx) : ctx_(ctx) { readers_.emplace("", Reader(root, "", ctx)); }
@@ -309,11 +309,13 @@ void read_scene(const toml::table& root, Scene& s, Context& ctx) {
       parent->tables(name, [&](const toml::table& t, std::string item_path) {
         Reader r(t, std::move(item_path), ctx);
         read_keys(r, section, section.array_in(s).emplace_back(), ctx);
+        r.finish();
       });
-    } else if (const toml::table* t = parent->table(name)) {
-      Reader r(*t, path, ctx);
-      if constexpr (std::is_same_v<S, HeightMapFile>) read_height_map(r, s.floor, ctx);
-      else read_keys(r, section, section.table_in(s), ctx);
+    } else if (Reader* r = tables.at(path)) {
+      // The table's reader is the one its sub-sections' arrays are read from ([camera] and
+      // [[camera.keys]]): finished with the others, once every section has been read.
+      if constexpr (std::is_same_v<S, HeightMapFile>) read_height_map(*r, s.floor, ctx);
+      else read_keys(*r, section, section.table_in(s), ctx);
     }
   });
   tables.finish();

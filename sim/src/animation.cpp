@@ -1,5 +1,7 @@
 #include "houle/sim/animation.hpp"
+#include "houle/sim/camera_path.hpp"
 #include "houle/sim/effect_plan.hpp"
+#include "houle/sim/floating_objects.hpp"
 
 #include <algorithm>
 #include <array>
@@ -27,12 +29,14 @@ std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20)
 }  // namespace
 
 // Per traced sample: the tracer's store (9 doubles, flags, ray index) and the output rays (7 doubles,
-// flags) exist together at the end of a trace. Per sea grid node: phi, amplitude, kx, ky; with the
-// parabolic model, its march grid too. The floor
-// grid has one float per metre (render_scene.cpp). Per pixel: the renderer's and the caller's buffers,
+// flags) exist together at the end of a trace. Per sea grid node and traced train (a sea state's
+// components each count): phi, b_re, b_im, kx, ky, fold, lean and K' (TrainField); with the parabolic
+// model, its march grid while the train is resampled. The floor grid has one float per metre
+// (render_scene.cpp), and the renderer one more for its clearance map.
+// Per pixel: the renderer's and the caller's buffers,
 // and the primary hits the renderer keeps (counted at up to 8 samples, capped as the renderer caps them).
 Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t pixels) {
-  constexpr std::uint64_t per_sample = 9 * 8 + 1 + 4 + 7 * 8 + 1, per_node = 4 * 4, per_pixel = 64;
+  constexpr std::uint64_t per_sample = 9 * 8 + 1 + 4 + 7 * 8 + 1, per_node = 8 * 4, per_pixel = 64;
   std::uint64_t rays = 0, sea = 0;
   const bool parabolic = scene_wave_model(s).kind == WaveModelKind::parabolic;
   const Bathymetry bathymetry(s.floor);
@@ -44,7 +48,7 @@ Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t 
     if (parabolic) sea += detail::parabolic_nodes(s, bathymetry, detail::parabolic_train(s, bathymetry, t)) * 8;
   }
   const std::uint64_t kept = std::min<std::uint64_t>(pixels * 8 * Renderer::kept_hit_bytes, Renderer::max_kept_bytes);
-  const std::uint64_t floor = grid_nodes(s.domain, 1.0) * 4, image = pixels * per_pixel + kept;
+  const std::uint64_t floor = grid_nodes(s.domain, 1.0) * 8, image = pixels * per_pixel + kept;
   const std::uint64_t total = rays + sea + floor + image;
   if (total <= scene_limits::max_animation_bytes) return {};
   return Error{"scene", "needs an estimated " + mib(total) + " at this quality and size (wave rays " + mib(rays) +
@@ -104,13 +108,7 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   const Scene& s = scene.value();
   if (Expected<void> fits = check_build_memory(s, quality.sea_cell, std::uint64_t(width) * height); !fits) return fits.error();
 
-  CameraParams cp;
-  cp.position = {float(s.camera.position.x), float(s.camera.position.y), float(s.camera.position.z)};
-  cp.look_at = {float(s.camera.look_at.x), float(s.camera.look_at.y), float(s.camera.look_at.z)};
-  cp.vertical_fov = float(s.camera.vertical_fov_deg * 3.14159265358979323846 / 180.0);
-  cp.width = width;
-  cp.height = height;
-  Expected<Camera> camera = make_camera(cp);
+  Expected<Camera> camera = make_camera(camera_params(camera_pose(s.camera, 0.0), width, height));
   if (!camera) return Error{"camera", camera.error().message};
 
   // The tracer and the noise follow the same plan (train_needs_rays, pierheads, capillary amplitude);
@@ -122,13 +120,27 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   if (!sea) return sea.error();
   Expected<SurfaceFrame> surface = SurfaceFrame::create(quality.surface);
   if (!surface) return Error{"quality.surface", surface.error().message};
-  Expected<Renderer> renderer = Renderer::create(make_render_scene(s), width, height, planned_quality(plan, quality).render, threads);
+  // A floating object goes no further than the sea's height bound up or down, and its centre swings
+  // by less than 1.5 times its height above the waterplane as it tilts.
+  RenderScene render_scene = make_render_scene(s);
+  std::vector<FloatingObject> floating = floating_objects(s, render_scene.boxes.size() - s.boxes.size());
+  const double float_bound = double(sea->height_bound());
+  for (const FloatingObject& f : floating) {
+    const float motion = float(float_bound + 1.5 * std::abs(f.centre_above)) + 0.01f;
+    (f.box ? render_scene.boxes[f.render_index].motion : render_scene.spheres[f.render_index].motion) = motion;
+  }
+  Expected<Renderer> renderer = Renderer::create(render_scene, width, height, planned_quality(plan, quality).render, threads);
   if (!renderer) return Error{"render", renderer.error().message};
 
   Animation a(std::move(renderer.value()), std::move(surface.value()));
+  a.floating_ = std::move(floating);
+  a.float_bound_ = float_bound;
   a.waves_ = std::make_unique<WaveField>(std::move(waves.value()));
   a.sea_ = std::make_unique<SeaSurface>(std::move(sea.value()));
   a.camera_ = camera.value();
+  a.view_ = s.camera;
+  a.width_ = width;
+  a.height_ = height;
   if (plan.capillary_noise) {
     CapillaryParams p;
     p.amplitude = float(s.capillary.amplitude);
@@ -144,11 +156,34 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   return a;
 }
 
+void Animation::set_camera(double time_s) noexcept {
+  if (view_.keys.empty()) return;
+  CameraParams p = camera_params(camera_pose(view_, time_s), width_, height_);
+  // The curves may pass through their own look-at point: that instant takes the nearest key's view
+  // (each key is a valid camera), so that make_camera cannot fail here (nor allocate its error).
+  if (p.position == p.look_at) {
+    const auto nearest = std::min_element(view_.keys.begin(), view_.keys.end(), [&](const CameraKey& a, const CameraKey& b) {
+      return std::abs(a.time - time_s) < std::abs(b.time - time_s);
+    });
+    p = camera_params(camera_pose(view_, nearest->time), width_, height_);
+  }
+  if (Expected<Camera> c = make_camera(p)) camera_ = c.value();
+}
+
 void Animation::render(double time_s, Framebuffer& out) noexcept {
   HOULE_ASSERT(out.width == int(renderer_.width()) && out.height == int(renderer_.height()),
                "Animation::render: a framebuffer of the animation's width x height");
+  set_camera(time_s);
   auto t0 = Clock::now();
   sea_->set_time(time_s);
+  for (const FloatingObject& f : floating_) {
+    const FloatingPose p = floating_pose(f, *sea_, float_bound_);
+    if (f.box) {
+      renderer_.move_box(f.render_index, box_pose(f, p));
+    } else {
+      renderer_.move_sphere(f.render_index, {float(p.centre[0]), float(p.centre[1]), float(p.centre[2])});
+    }
+  }
   surface_.begin_frame(camera_.position[0], camera_.position[1]);
   surface_.restrict_to_view(camera_);  // every ray the renderer marches over the sea starts at the camera
   renderer_.fill_surface(surface_, &SeaSurface::sample, sea_.get());

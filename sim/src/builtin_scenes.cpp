@@ -53,7 +53,7 @@ Scene builtin_coast() {
   s.sun = Sun{250.0, 30.0};
   s.sky = Sky{3.0};
   // On the beach, 6 m up, looking out to sea past the jetty.
-  s.camera = ViewCamera{{110.0, 178.0, 6.0}, {140.0, 60.0, 0.0}, 50.0};
+  s.camera = ViewCamera{{110.0, 178.0, 6.0}, {140.0, 60.0, 0.0}, 50.0, {}};
   s.water = Water{0.05, 495.0};
 
   // Shortest wavelength about 12 m (deep) and 8 m near the breakers: 0.75 m steps and rays at most 2 m
@@ -87,7 +87,7 @@ Scene paper_fig4() {
   s.trains = {t};
 
   s.capillary.amplitude = 0.0;
-  s.camera = ViewCamera{{50.0, -30.0, 25.0}, {50.0, 60.0, 0.0}, 55.0};
+  s.camera = ViewCamera{{50.0, -30.0, 25.0}, {50.0, 60.0, 0.0}, 55.0, {}};
 
   s.dwt.initial_rays = 70;
   s.dwt.front_width = 0.0;  // the whole 100 m: see the header

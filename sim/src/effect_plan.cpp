@@ -39,8 +39,8 @@ EffectPlan plan_effects(const Scene& scene, const Quality& quality) {
   // The renderer has a floor grid unless the floor is uniform and deep (render_scene.cpp).
   const bool floor_grid = !floor.uniform() || scene.floor.base.depth < 200.0;
   bool submerged = !scene.walls.empty();  // wall blocks reach 2 m below still water
-  for (const Box& b : scene.boxes) submerged = submerged || b.center.z - b.half_extent.z < 0.0;
-  for (const Sphere& s : scene.spheres) submerged = submerged || s.center.z - s.radius < 0.0;
+  for (const Box& b : scene.boxes) submerged = submerged || b.floats || b.center.z - b.half_extent.z < 0.0;
+  for (const Sphere& s : scene.spheres) submerged = submerged || s.floats || s.center.z - s.radius < 0.0;
   p.refraction = submerged || (floor_grid && shallowest < floor_visibility_depth(scene.water));
 
   p.specular = scene.sun.elevation_deg > 0.0;

@@ -5,6 +5,7 @@
 
 #include "houle/sim/animation.hpp"
 #include "houle/sim/bathymetry.hpp"
+#include "houle/sim/floating_objects.hpp"
 
 namespace houle {
 namespace {
@@ -60,12 +61,14 @@ RenderScene make_render_scene(const Scene& scene) {
   }
   for (const Wall& w : scene.walls) add_wall_blocks(r, w);
   for (const Box& b : scene.boxes) {
-    r.boxes.push_back({{float(b.center.x), float(b.center.y), float(b.center.z)},
+    const double z = b.floats ? b.half_extent.z - box_draft(b.half_extent.z, b.density) : b.center.z;
+    r.boxes.push_back({{float(b.center.x), float(b.center.y), float(z)},
                        {float(b.half_extent.x), float(b.half_extent.y), float(b.half_extent.z)},
                        float(b.yaw_deg * deg), b.colour});
   }
   for (const Sphere& s : scene.spheres) {
-    r.spheres.push_back({{float(s.center.x), float(s.center.y), float(s.center.z)}, float(s.radius), s.colour});
+    const double z = s.floats ? s.radius - sphere_draft(s.radius, s.density) : s.center.z;
+    r.spheres.push_back({{float(s.center.x), float(s.center.y), float(z)}, float(s.radius), s.colour});
   }
   const double az = scene.sun.azimuth_deg * deg, el = scene.sun.elevation_deg * deg;
   r.sun_direction = {float(std::cos(el) * std::cos(az)), float(std::cos(el) * std::sin(az)), float(std::sin(el))};

@@ -5,11 +5,13 @@
 #include <numbers>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <utility>
 
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene_keys.hpp"
+#include "houle/sim/sea_state.hpp"
 #include "clip_line.hpp"
 
 namespace houle {
@@ -62,13 +64,27 @@ Expected<void> check_domain(const Domain& d) {
 
 // Counts that bound the scene build's memory and time (docs/scenes.md, "Limits").
 Expected<void> check_counts(const Scene& s) {
-  const std::pair<const char*, std::size_t> counts[] = {
-      {"floor.shoals", s.floor.shoals.size()}, {"floor.bars", s.floor.bars.size()},
-      {"floor.channels", s.floor.channels.size()}, {"walls", s.walls.size()},
-      {"trains", s.trains.size()}, {"boxes", s.boxes.size()}, {"spheres", s.spheres.size()}};
-  for (const auto& [field, n] : counts) {
-    const std::size_t most = std::string_view(field) == "trains" ? scene_limits::max_trains : scene_limits::max_items;
+  const auto written = std::size_t(std::count_if(s.trains.begin(), s.trains.end(), [](const WaveTrain& t) { return t.sea_state < 0; }));
+  const std::tuple<const char*, std::size_t, std::size_t> counts[] = {
+      {"floor.shoals", s.floor.shoals.size(), scene_limits::max_items},
+      {"floor.bars", s.floor.bars.size(), scene_limits::max_items},
+      {"floor.channels", s.floor.channels.size(), scene_limits::max_items},
+      {"walls", s.walls.size(), scene_limits::max_items},
+      {"trains", written, scene_limits::max_trains},
+      {"sea_states", s.sea_states.size(), scene_limits::max_sea_states},
+      {"boxes", s.boxes.size(), scene_limits::max_items},
+      {"spheres", s.spheres.size(), scene_limits::max_items}};
+  for (const auto& [field, n, most] : counts) {
     if (n > most) return Error{field, "at most " + std::to_string(most) + " entries, got " + std::to_string(n)};
+  }
+  std::size_t components = 0;
+  for (std::size_t i = 0; i < s.sea_states.size(); ++i) {
+    components += s.sea_states[i].components;
+    if (components > scene_limits::max_components) {
+      return Error{at("sea_states", i) + ".components", "at most " + std::to_string(scene_limits::max_components) +
+                                                             " components in all sea states together, got " +
+                                                             std::to_string(components) + " up to this one"};
+    }
   }
   for (std::size_t i = 0; i < s.walls.size(); ++i) {
     if (s.walls[i].points.size() > scene_limits::max_wall_points) {
@@ -139,12 +155,29 @@ Expected<void> check_trains(const std::vector<WaveTrain>& trains) {
 
 Expected<void> check_camera(const Scene& s) {
   const ViewCamera& cam = s.camera;
-  if (cam.position.x == cam.look_at.x && cam.position.y == cam.look_at.y && cam.position.z == cam.look_at.z) {
-    return Error{"camera.look_at", "a point different from camera.position"};
+  const Bathymetry floor(s.floor);
+  // The still camera, or each key of a moving one: looking somewhere, above the sea floor.
+  const auto check_view = [&](Point3 position, Point3 look_at, const std::string& field) -> Expected<void> {
+    if (position.x == look_at.x && position.y == look_at.y && position.z == look_at.z) {
+      return Error{field + ".look_at", "a point different from " + field + ".position"};
+    }
+    const double floor_z = -floor.depth(position.x, position.y);
+    if (position.z < floor_z) {
+      return bad(field + ".position.z", "a height above the sea floor there (z = " + num(floor_z) + " m)", position.z);
+    }
+    return {};
+  };
+  if (cam.keys.empty()) return check_view(cam.position, cam.look_at, "camera");
+  if (cam.keys.size() > scene_limits::max_items) {
+    return Error{"camera.keys", "at most " + std::to_string(scene_limits::max_items) + " entries, got " +
+                                    std::to_string(cam.keys.size())};
   }
-  const double floor_z = -Bathymetry(s.floor).depth(cam.position.x, cam.position.y);
-  if (cam.position.z < floor_z) {
-    return bad("camera.position.z", "a height above the sea floor there (z = " + num(floor_z) + " m)", cam.position.z);
+  for (std::size_t i = 0; i < cam.keys.size(); ++i) {
+    const CameraKey& k = cam.keys[i];
+    if (i > 0 && !(k.time > cam.keys[i - 1].time)) {
+      return bad(at("camera.keys", i) + ".time", "a time after the key before's (" + num(cam.keys[i - 1].time) + " s)", k.time);
+    }
+    if (auto e = check_view(k.position, k.look_at, at("camera.keys", i)); !e) return e;
   }
   return {};
 }
@@ -192,6 +225,13 @@ Expected<Scene> validate(Scene scene) {
   if (auto e = check_trains(scene.trains); !e) return e.error();
   if (auto e = check_camera(scene); !e) return e.error();
   if (auto e = check_dwt(scene.dwt); !e) return e.error();
+  // The sea states' components, again from scratch: a valid scene validates to itself.
+  std::erase_if(scene.trains, [](const WaveTrain& t) { return t.sea_state >= 0; });
+  for (std::size_t i = 0; i < scene.sea_states.size(); ++i) {
+    Expected<std::vector<WaveTrain>> components = sea_state_components(scene.sea_states[i], i);
+    if (!components) return components.error();
+    scene.trains.insert(scene.trains.end(), components->begin(), components->end());
+  }
   return scene;
 }
 

@@ -210,6 +210,21 @@ constexpr Key<WaveTrain> train_keys[] = {
     {"steepness", &WaveTrain::steepness, "", unit_interval, "Gerstner q (0: sine profile)"},
 };
 
+constexpr Key<SeaState> sea_state_keys[] = {
+    {"significant_height", &SeaState::significant_height, "m", positive,
+     "Hs, four times the standard deviation of the surface height (deep water)"},
+    {"peak_period", &SeaState::peak_period, "s", {0.5, 30.0}, "Tp, the period at the spectrum's peak"},
+    {"gamma", &SeaState::gamma, "", {1.0, 10.0}, "JONSWAP peak enhancement (1: Pierson-Moskowitz)"},
+    {"direction_deg", &SeaState::direction_deg, "deg", any, "mean direction of travel"},
+    {"spread_deg", &SeaState::spread_deg, "deg", {0.0, 80.0},
+     "directional spread σ of the cos-2s distribution (its circular standard deviation, SWAN's DSPR): s = 2/σ² − 1; "
+     "0: long-crested"},
+    {"components", &SeaState::components, "", {1.0, double(scene_limits::max_components)},
+     "trains the spectrum is expanded into (docs/accuracy.md: the error against 256)"},
+    {"seed", &SeaState::seed, "", any, "another seed gives other phases and other pairings of directions with frequencies"},
+    {"steepness", &SeaState::steepness, "", unit_interval, "Gerstner q of every component"},
+};
+
 constexpr Key<CapillaryNoise> capillary_keys[] = {
     {"amplitude", &CapillaryNoise::amplitude, "m", non_negative, "0 switches the ripples off (no noise work at all)"},
     {"base_wavelength", &CapillaryNoise::base_wavelength, "m", positive, "lattice spacing of the coarsest octave"},
@@ -223,12 +238,18 @@ constexpr Key<Box> box_keys[] = {
     {"half_extent", &Box::half_extent, "m", positive, "half sizes"},
     {"yaw_deg", &Box::yaw_deg, "deg", any, "rotation about z"},
     {"colour", &Box::colour, "", unit_interval, "linear RGB reflectance"},
+    {"float", &Box::floats, "", any, "heaves, pitches and rolls with the sea surface under it (`center`'s z is then ignored)"},
+    {"density", &Box::density, "kg/m³", {0.0, sea_water_density, true, true},
+     "of a floating box: its draft is 2 half_extent.z · density / 1025"},
 };
 
 constexpr Key<Sphere> sphere_keys[] = {
     {"center", &Sphere::center, "m", any, "centre"},
     {"radius", &Sphere::radius, "m", positive, "radius"},
     {"colour", &Sphere::colour, "", unit_interval, "linear RGB reflectance"},
+    {"float", &Sphere::floats, "", any, "rides the sea surface under it (`center`'s z is then ignored)"},
+    {"density", &Sphere::density, "kg/m³", {0.0, sea_water_density, true, true},
+     "of a floating sphere: the draft at which the submerged cap holds density / 1025 of its volume"},
 };
 
 constexpr Key<Sun> sun_keys[] = {
@@ -244,6 +265,14 @@ constexpr Key<ViewCamera> camera_keys[] = {
     {"position", &ViewCamera::position, "m", any, "must be above the sea floor"},
     {"look_at", &ViewCamera::look_at, "m", any, "point looked at (not the position)"},
     {"vertical_fov_deg", &ViewCamera::vertical_fov_deg, "deg", {0.0, 180.0, true, true}, "vertical field of view"},
+};
+
+constexpr Key<CameraKey> camera_path_keys[] = {
+    {"time", &CameraKey::time, "s", any, "scene time of the key; keys in strictly increasing time", {}, nullptr, true},
+    {"position", &CameraKey::position, "m", any, "where the camera is then", {}, nullptr, true},
+    {"look_at", &CameraKey::look_at, "m", any, "point looked at (not the position)", {}, nullptr, true},
+    {"vertical_fov_deg", &CameraKey::vertical_fov_deg, "deg", {0.0, 180.0, true, true},
+     "vertical field of view; [camera]'s when not given"},
 };
 
 constexpr Key<Water> water_keys[] = {
@@ -335,17 +364,40 @@ constexpr Section<Wall> walls{
     wall_keys, nullptr, [](Scene& s) -> std::vector<Wall>& { return s.walls; }};
 constexpr Section<WaveTrain> trains{"trains", true, "wave trains from the open sea", "", train_keys, nullptr,
                                     [](Scene& s) -> std::vector<WaveTrain>& { return s.trains; }};
+constexpr Section<SeaState> sea_states{
+    "sea_states", true, "sea states: wave spectra expanded into trains",
+    "A JONSWAP spectrum with cos-2s directional spreading, expanded into `components` trains that are traced "
+    "over the floor like written ones (docs/physics.md 2.9): equal-energy frequency bins over [0.5, 5] / Tp, each "
+    "a train of amplitude Hs / √(8 N) at its bin's centroid; the direction quantiles dealt to the bins in a "
+    "golden-ratio order; phases from a fixed hash of the seed. The same scene gives the same components on "
+    "every machine. Every component must stay under the Stokes limit (0.071 L0 at its period). The "
+    "components follow the written trains wherever trains are listed (`houle info`, `houle probe`). Where "
+    "the floor or walls need rays, each component is a traced train estimated at the rays' caps: for many "
+    "components, lower `dwt.max_rays` and `dwt.max_samples` to what a train needs (`houle info` prints it).",
+    sea_state_keys, nullptr, [](Scene& s) -> std::vector<SeaState>& { return s.sea_states; }};
 constexpr Section<CapillaryNoise> capillary{"capillary", false, "short ripples (fractal noise, paper eq. 9)", "",
                                             capillary_keys,
                                             [](Scene& s) -> CapillaryNoise& { return s.capillary; }};
-constexpr Section<Box> boxes{"boxes", true, "box objects (blocks, rocks)", "", box_keys, nullptr,
+constexpr std::string_view floating_notes =
+    "With `float = true` the object sits at its draft in still water and, each frame, heaves, pitches and rolls "
+    "with the plane fitted to the sea surface under its waterplane at that frame's time (docs/physics.md 2.10).";
+constexpr Section<Box> boxes{"boxes", true, "box objects (blocks, rocks)", floating_notes, box_keys, nullptr,
                              [](Scene& s) -> std::vector<Box>& { return s.boxes; }};
-constexpr Section<Sphere> spheres{"spheres", true, "sphere objects (buoys, rocks)", "", sphere_keys, nullptr,
+constexpr Section<Sphere> spheres{"spheres", true, "sphere objects (buoys, rocks)", floating_notes, sphere_keys, nullptr,
                                   [](Scene& s) -> std::vector<Sphere>& { return s.spheres; }};
 constexpr Section<Sun> sun{"sun", false, "the sun", "", sun_keys, [](Scene& s) -> Sun& { return s.sun; }};
 constexpr Section<Sky> sky{"sky", false, "the sky", "", sky_keys, [](Scene& s) -> Sky& { return s.sky; }};
 constexpr Section<ViewCamera> camera{"camera", false, "the view", "", camera_keys,
                                      [](Scene& s) -> ViewCamera& { return s.camera; }};
+constexpr Section<CameraKey> camera_path{
+    "camera.keys", true, "a moving camera",
+    "With keys the camera flies through them: position, look_at and the field of view are each a cubic "
+    "Hermite curve through the keys with Catmull-Rom tangents (the neighbouring keys' difference over their "
+    "time apart; one-sided at the first and last key), so they move smoothly and pass through every key at its "
+    "time; the field of view stays between its two keys' values. Before the first key and after the last the "
+    "camera stands at that key. Frame n shows the camera at its own time n / fps, whatever was rendered before "
+    "it. `camera.position` and `camera.look_at` are then unused.",
+    camera_path_keys, nullptr, [](Scene& s) -> std::vector<CameraKey>& { return s.camera.keys; }};
 constexpr Section<Water> water{"water", false, "the water's colour", "", water_keys,
                                [](Scene& s) -> Water& { return s.water; }};
 constexpr Section<DwtSettings> dwt{"dwt", false, "accuracy knobs of the wave-ray tracer", "", dwt_keys,

@@ -367,6 +367,42 @@ f=$(scene no-trains '[floor.base]
 depth = 5.0')
 expect probe-csv-no-trains 0 '^1,2,0\.5,water,5,0,0,0,,,,,,,,,,$' "$houle" probe "$f" --at 1,2 --times 0:0.5:0.5 --csv
 expect probe-json-csv 2 'probe: --json and --csv exclude each other' "$houle" probe --at 1,2 --json --csv
+# A sea state (docs/physics.md 2.9): houle probe --times at an offshore point of deep water, over half
+# an hour, has Hs = 4 standard deviations of the height within 5 %; its components follow the written
+# train in the probe's rows; a component over the Stokes limit and a sinking float are refused.
+f=$(scene sea-state '[domain]
+x_max = 300.0
+y_max = 300.0
+[floor.base]
+depth = 80.0
+[[trains]]
+period = 12.0
+amplitude = 0.0
+[[sea_states]]
+significant_height = 1.5
+peak_period = 7.0
+components = 24')
+expect info-sea-state 0 '\[24\] period [0-9.]+ s, .*, of sea_states\[0\]' "$houle" info "$f"
+expect info-floating 0 'boxes: 1, spheres: 1 \(2 floating\)' "$houle" info "$src/scenes/buoy.toml"
+if "$houle" probe "$f" --at 150,150 --times 0:1800:0.5 --csv | python3 -c 'import csv,statistics,sys
+rows = list(csv.DictReader(sys.stdin))
+heights = {r["t"]: float(r["height"]) for r in rows}
+trains = {r["train"] for r in rows}
+hs = 4 * statistics.pstdev(heights.values())
+assert len(heights) == 3601 and len(trains) == 25, (len(heights), len(trains))
+assert abs(hs / 1.5 - 1) < 0.05, hs' >"$work/check.txt" 2>&1; then
+  pass=$((pass + 1))
+else
+  fail=$((fail + 1)); echo "FAIL sea-state probe Hs: $(cat "$work/check.txt")"
+fi
+f=$(scene steep-sea '[[sea_states]]
+significant_height = 9.0
+peak_period = 5.0')
+expect sea-state-stokes 2 'steep-sea.toml:2:22: error: sea_states\[0\].significant_height: at most what keeps every component under the deep-water breaking \(Stokes\) limit' "$houle" validate "$f"
+f=$(scene sinking '[[spheres]]
+float = true
+density = 2000.0')
+expect float-density 2 'sinking.toml:3:11: error: spheres\[0\].density: a value in \(0, 1025\) kg/m³, got 2000' "$houle" validate "$f"
 expect probe-at-t-times 2 'probe: --at 1,2,3 gives its own time, and --times gives the times of every point' "$houle" probe --at 1,2,3 --times 0:1:0.5
 expect probe-times-form 2 "probe: --times expects T0:T1:DT in s .*got '0:1'" "$houle" probe --at 1,2 --times 0:1
 expect probe-times-step 2 'probe: --times 0:1:0: the step DT must be > 0 s' "$houle" probe --at 1,2 --times 0:1:0

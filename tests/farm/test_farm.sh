@@ -45,7 +45,12 @@ expect unknown-option 2 "farm slurm: unknown option '--frob' \(see houle farm sl
 expect raw-stdout 2 'farm slurm: --raw needs a file' "$houle" farm slurm --chunk 5 --raw -
 expect two-actions 2 'farm slurm: --dry-run, --submit and --local exclude each other' "$houle" farm slurm --chunk 5 --dry-run --local 2
 expect sbatch-array 2 'farm slurm: --sbatch may not set --array' "$houle" farm slurm --chunk 5 --sbatch '-p x -a 1-3' --dry-run
-expect no-folder 2 'farm slurm: nowhere/%04d.png: the folder nowhere does not exist' "$houle" farm slurm --chunk 5 --out 'nowhere/%04d.png'
+# As houle render: an image sequence's folder is made (by the tasks), a raw file's must be there.
+expect new-folder 0 'array=0-9' "$houle" farm slurm --chunk 5 --frames 0:49 --out 'nowhere/%04d.png' --dry-run
+[ -e nowhere ] && { fail=$((fail + 1)); echo "FAIL new-folder: made by --dry-run"; }
+touch plain-file
+expect no-folder 2 'farm slurm: plain-file/x/%04d.png: plain-file is not a folder' "$houle" farm slurm --chunk 5 --out 'plain-file/x/%04d.png'
+expect no-raw-folder 2 'farm slurm: nowhere/x.rgb: cannot open for writing: the folder nowhere does not exist' "$houle" farm slurm --chunk 5 --raw 'nowhere/x.rgb'
 expect bad-pattern 2 'needs exactly one frame-number conversion' "$houle" farm slurm --chunk 5 --out x.png
 expect bad-scene 2 'nope.toml: error: cannot read the scene file' "$houle" farm slurm nope.toml --chunk 5
 expect status-args 2 'farm status: --out PATTERN or --raw PATH is required' "$houle" farm status --frames 0:9

@@ -280,8 +280,9 @@ TEST(SurfaceFrame, FillEqualsFinishFrameAndIsDeterministic) {
   EXPECT_EQ(a.z_max(), b.z_max());
 }
 
-// The fill split into parts (as Renderer::fill_surface runs it on its threads), parts run in any
-// order, gives the very frame of the one-piece fill: nodes, morph and bounds.
+// The fill, the morph and the tiles' bounds split into parts (as Renderer::fill_surface runs them on
+// its threads), parts run in any order, give the very frame of the one-piece fill: nodes, morph and
+// bounds.
 TEST(SurfaceFrame, FillInPartsEqualsTheWholeFill) {
   SurfaceFrameConfig cfg;
   cfg.levels = 4;
@@ -299,6 +300,8 @@ TEST(SurfaceFrame, FillInPartsEqualsTheWholeFill) {
     split.begin_frame(7.0f, -3.0f);
     split.begin_fill();
     for (unsigned p = parts; p-- > 0;) split.fill_part(sampler, const_cast<houle::GerstnerFrame*>(&waves.value()), p, parts);
+    for (unsigned p = parts; p-- > 0;) split.morph_part(p, parts);
+    for (unsigned p = 0; p < parts; ++p) split.bound_part(p, parts);
     split.finish_frame();
     const std::size_t floats = (cfg.cells + 1) * whole.stride();
     for (std::uint32_t l = 0; l < cfg.levels; ++l) {
@@ -309,8 +312,10 @@ TEST(SurfaceFrame, FillInPartsEqualsTheWholeFill) {
       }
       for (std::uint32_t j = 0; j < whole.tiles_per_side(); ++j) {
         for (std::uint32_t i = 0; i < whole.tiles_per_side(); ++i) {
+          ASSERT_EQ(whole.tile(l, i, j).h_min, split.tile(l, i, j).h_min);
           ASSERT_EQ(whole.tile(l, i, j).h_max, split.tile(l, i, j).h_max);
           ASSERT_EQ(whole.tile(l, i, j).slope_x, split.tile(l, i, j).slope_x);
+          ASSERT_EQ(whole.tile(l, i, j).slope_y, split.tile(l, i, j).slope_y);
         }
       }
     }

@@ -113,6 +113,8 @@ the message names the file (and line when a key is at fault) and what was expect
             << "| domain | each side at most " << num(lim::max_domain_side) << " m, bounds within "
             << num(lim::max_coordinate / 1000.0) << " km of the origin | `validate` |\n"
             << "| `[[trains]]` | at most " << lim::max_trains << " | `validate` |\n"
+            << "| `[[sea_states]]` | at most " << lim::max_sea_states << ", with at most " << lim::max_components
+            << " components together (each a traced train: they count in the memory estimate below) | `validate` |\n"
             << "| `[[floor.shoals]]`, `[[floor.bars]]`, `[[floor.channels]]`, `[[walls]]`, `[[boxes]]`, "
                "`[[spheres]]` | at most "
             << lim::max_items << " each; at most " << lim::max_wall_points << " points per wall | `validate` |\n"
@@ -140,7 +142,7 @@ counter-clockwise from +x (a train with `direction_deg = 90` travels north). Fil
             << (cli::max_scene_file_bytes >> 20) << R"md( MiB are refused
 (height maps belong in image files).
 
-The paper's scenes and the built-in coast are in `scenes/`.
+The paper's scenes, the built-in coast and a sea state with a floating buoy and pontoon (`buoy.toml`) are in `scenes/`.
 )md";
   keys::for_each_section([](const auto& section) { print_section(section); });
   print_limits();

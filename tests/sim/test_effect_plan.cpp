@@ -21,7 +21,7 @@ Scene deep_flat_sea() {
   s.trains = {t, t};
   s.trains[1].direction_deg = 30.0;
   s.capillary.amplitude = 0.0;
-  s.camera = houle::ViewCamera{{50.0, -20.0, 6.0}, {50.0, 50.0, 0.0}, 50.0};
+  s.camera = houle::ViewCamera{{50.0, -20.0, 6.0}, {50.0, 50.0, 0.0}, 50.0, {}};
   return s;
 }
 
@@ -98,6 +98,19 @@ TEST(EffectPlan, EachStageFollowsWhatTheSceneHas) {
   EXPECT_TRUE(p.shadows);  // it stands above the water and can shade and be reflected
   EXPECT_TRUE(p.reflect_objects);
   EXPECT_FALSE(houle::plan_effects(sphere, houle::quality_preset(houle::QualityPreset::draft)).shadows);  // draft: off
+  // A floating sphere is partly under the water whatever its centre's z says; a sea state in deep
+  // flat water is analytic trains, none traced.
+  Scene buoy = deep_flat_sea();
+  buoy.spheres.push_back(houle::Sphere{{50.0, 50.0, 30.0}, 1.0, {}});
+  EXPECT_FALSE(houle::plan_effects(buoy, realtime).refraction);
+  buoy.spheres[0].floats = true;
+  EXPECT_TRUE(houle::plan_effects(buoy, realtime).refraction);
+  buoy.sea_states.push_back(houle::SeaState{});
+  const auto expanded = houle::validate(buoy);
+  ASSERT_TRUE(expanded.ok());
+  p = houle::plan_effects(expanded.value(), realtime);
+  EXPECT_EQ(p.train_rays.size(), 2u + houle::SeaState{}.components);
+  EXPECT_FALSE(p.ray_tracing);
 
   // The sun below the horizon: no glint, but shadow rays stay (they run downwards, into the floor).
   Scene night = deep_flat_sea();

@@ -1,12 +1,15 @@
 // Scene validation: the built-in scenes are valid, and each kind of mistake names its field.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <string>
 
 #include "houle/sim/animation.hpp"
+#include "houle/sim/camera_path.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/sim/scene_keys.hpp"
 
@@ -187,3 +190,113 @@ TEST(Scene, EveryBoundedNumberKeyIsCheckedByName) {
 }
 
 }  // namespace
+
+// ---- A moving camera ([[camera.keys]], camera_path.hpp) ----
+
+namespace {
+
+houle::ViewCamera flying_camera() {
+  houle::ViewCamera c;
+  c.vertical_fov_deg = 50.0;
+  c.keys = {{0.0, {0.0, 0.0, 6.0}, {10.0, 100.0, 0.0}, std::nullopt},
+            {2.0, {20.0, 1.0, 8.0}, {30.0, 100.0, 0.0}, 40.0},
+            {3.0, {30.0, 5.0, 7.0}, {40.0, 90.0, 1.0}, std::nullopt},
+            {7.0, {80.0, -4.0, 6.0}, {60.0, 100.0, 0.0}, 60.0}};
+  return c;
+}
+
+std::array<double, 7> pose_values(const houle::CameraPose& p) {
+  return {p.position.x, p.position.y, p.position.z, p.look_at.x, p.look_at.y, p.look_at.z, p.vertical_fov_deg};
+}
+
+}  // namespace
+
+TEST(CameraPath, PassesThroughEveryKeyAtItsTimeAndStandsStillOutside) {
+  const houle::ViewCamera c = flying_camera();
+  for (const houle::CameraKey& k : c.keys) {
+    const houle::CameraPose p = houle::camera_pose(c, k.time);
+    EXPECT_EQ(pose_values(p), pose_values({k.position, k.look_at, k.vertical_fov_deg.value_or(c.vertical_fov_deg)})) << k.time;
+  }
+  EXPECT_EQ(pose_values(houle::camera_pose(c, -5.0)), pose_values(houle::camera_pose(c, 0.0)));
+  EXPECT_EQ(pose_values(houle::camera_pose(c, std::numeric_limits<double>::quiet_NaN())), pose_values(houle::camera_pose(c, 0.0)));
+  EXPECT_EQ(pose_values(houle::camera_pose(c, 1e9)), pose_values(houle::camera_pose(c, 7.0)));
+  // Without keys: the still camera.
+  houle::ViewCamera still;
+  EXPECT_EQ(pose_values(houle::camera_pose(still, 3.0)), pose_values({still.position, still.look_at, still.vertical_fov_deg}));
+}
+
+TEST(CameraPath, MovesSmoothlyAndKeepsTheFieldOfViewBetweenItsKeys) {
+  // C1: the curves' values and velocities agree on both sides of every inner key (one-sided
+  // differences, 1e-6 s), and no velocity jumps between neighbouring samples elsewhere.
+  const houle::ViewCamera c = flying_camera();
+  const double h = 1e-6;
+  for (std::size_t k = 1; k + 1 < c.keys.size(); ++k) {
+    const double t = c.keys[k].time;
+    const auto before = pose_values(houle::camera_pose(c, t - h)), at = pose_values(houle::camera_pose(c, t)),
+               after = pose_values(houle::camera_pose(c, t + h));
+    for (std::size_t q = 0; q < 6; ++q) {
+      const double left = (at[q] - before[q]) / h, right = (after[q] - at[q]) / h;
+      EXPECT_NEAR(left, right, 1e-3 * (1.0 + std::abs(left))) << "key " << k << " value " << q;
+    }
+  }
+  double fov_lo = 1e9, fov_hi = -1e9;
+  for (double t = 0.0; t <= 7.0; t += 0.01) {
+    const houle::CameraPose p = houle::camera_pose(c, t);
+    const std::size_t seg = t < 2.0 ? 0 : t < 3.0 ? 1 : 2;
+    const double a = c.keys[seg].vertical_fov_deg.value_or(50.0), b = c.keys[seg + 1].vertical_fov_deg.value_or(50.0);
+    EXPECT_GE(p.vertical_fov_deg, std::min(a, b)) << t;
+    EXPECT_LE(p.vertical_fov_deg, std::max(a, b)) << t;
+    fov_lo = std::min(fov_lo, p.vertical_fov_deg);
+    fov_hi = std::max(fov_hi, p.vertical_fov_deg);
+  }
+  EXPECT_NEAR(fov_lo, 40.0, 1e-6);
+  EXPECT_NEAR(fov_hi, 60.0, 1e-6);
+}
+
+TEST(CameraPath, KeysAreValidatedOneByOne) {
+  Scene s;
+  s.camera = flying_camera();
+  EXPECT_EQ(error_field(s), "<valid>");
+  s.camera.keys[2].time = 2.0;  // not after the key before
+  EXPECT_EQ(error_field(s), "camera.keys[2].time");
+  s.camera = flying_camera();
+  s.camera.keys[1].look_at = s.camera.keys[1].position;
+  EXPECT_EQ(error_field(s), "camera.keys[1].look_at");
+  s.camera = flying_camera();
+  s.camera.keys[3].position.z = -21.0;  // the flat floor is at z = -20
+  EXPECT_EQ(error_field(s), "camera.keys[3].position.z");
+  s.camera = flying_camera();
+  s.camera.keys[0].vertical_fov_deg = 180.0;
+  EXPECT_EQ(error_field(s), "camera.keys[0].vertical_fov_deg");
+  // The still camera's own position is not used by a moving one.
+  s.camera = flying_camera();
+  s.camera.position = s.camera.look_at;
+  EXPECT_EQ(error_field(s), "<valid>");
+}
+
+TEST(CameraPath, AFrameDependsOnlyOnItsTime) {
+  // Frame n of a flight is the same whether rendered alone or after others, and its camera is the
+  // path's at its time.
+  Scene s;
+  s.domain = {0.0, 0.0, 100.0, 100.0};
+  s.floor.base.depth = 8.0;
+  houle::WaveTrain t;
+  t.period = 5.0;
+  t.amplitude = 0.3;
+  s.trains = {t};
+  s.camera = flying_camera();
+  const houle::Quality q = houle::quality_preset(houle::QualityPreset::draft);
+  auto a = houle::Animation::create(s, q, 64, 36, 1), b = houle::Animation::create(s, q, 64, 36, 1);
+  ASSERT_TRUE(a.ok() && b.ok());
+  houle::Framebuffer fa(64, 36), fb(64, 36);
+  a->render(2.5, fa);
+  b->render(0.5, fb);
+  b->render(6.0, fb);
+  b->render(2.5, fb);
+  EXPECT_EQ(fa.rgb, fb.rgb);
+  const auto expected = houle::make_camera(houle::camera_params(houle::camera_pose(s.camera, 2.5), 64, 36));
+  ASSERT_TRUE(expected.ok());
+  EXPECT_EQ(std::memcmp(&a->camera(), &expected.value(), sizeof(houle::Camera)), 0);
+  b->render(0.5, fb);
+  EXPECT_NE(std::memcmp(&a->camera(), &b->camera(), sizeof(houle::Camera)), 0);
+}

@@ -35,7 +35,7 @@ houle::Scene plate1(double camera_z = 4.0) {
   s.floor.base.depth = 50.0;
   s.capillary = houle::CapillaryNoise{0.03, 1.0, 2.0, max_octaves, 1.0};
   s.sun = houle::Sun{90.0, 25.0};
-  s.camera = houle::ViewCamera{{50.0, 0.0, camera_z}, {50.0, 60.0, camera_z - 4.0}, 50.0};
+  s.camera = houle::ViewCamera{{50.0, 0.0, camera_z}, {50.0, 60.0, camera_z - 4.0}, 50.0, {}};
   return s;
 }
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -164,12 +165,14 @@ struct Renderer::Impl {
   Camera camera;
   Framebuffer* out = nullptr;
   RenderView view = RenderView::shaded;
+  bool aovs = false;  // out has an AOV to fill
   MarchParams march;
   bool camera_under = false;
   double primary_floor_lo = 0.0;
 
   void render_row(Scratch& s, std::uint32_t row) noexcept;
   void shade_sample(Scratch& s) noexcept;
+  void add_aovs(const Scratch& s, std::uint32_t row, int sample) const noexcept;
   LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
   LinearRgb sky_radiance(const Vec3& d) const noexcept { return sky.lookup(d) * sky_scale; }
   LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept;
@@ -235,7 +238,7 @@ LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float 
 /// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky.
 LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
   if (quality.reflect_objects) {
-    const SurfaceHit h = objects.intersect(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
+    const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
     if (h.kind != HitKind::none) return lit_in_air(h, along(p, d, h.t), d);
   }
   return sky_radiance(d);
@@ -244,8 +247,8 @@ LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, fl
 /// Radiance arriving at p from direction d through water: eq. 12 on the floor or an object within
 /// reach, I_sea otherwise.
 LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
-  const SurfaceHit h =
-      objects.intersect(make_ray(p, offset_normal, offset, d), 0.0, double(std::min(underwater_reach, max_distance)));
+  const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0,
+                                                  double(std::min(underwater_reach, max_distance)));
   if (h.kind == HitKind::none) return sea_lit;
   const Vec3 q = along(p, d, h.t);
   return through_water(lit_in_water(h, q, d), h.t, sun_path_in_water(q));
@@ -359,6 +362,44 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
   }
 }
 
+/// The AOVs of one sample of a row's pixels, from what the march and shade_sample left in the scratch
+/// (framebuffer.hpp says what each holds): the first sample sets them, the others add to them.
+void Renderer::Impl::add_aovs(const Scratch& s, std::uint32_t row, int sample) const noexcept {
+  const std::size_t w = width, o = std::size_t(row) * w;
+  float* const* a = s.a;
+  const float share = 1.0f / float(samples);
+  const bool first = sample == 0;
+  for (std::size_t i = 0; i < w; ++i) {
+    const MarchStatus st = s.status[i];
+    const bool sea = st == MarchStatus::hit || st == MarchStatus::hit_from_below;
+    const HitKind kind = s.object[i].kind;
+    const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
+    float t = std::numeric_limits<float>::infinity();
+    Vec3 n{0.0f, 0.0f, 0.0f};
+    if (sea) {
+      t = a[Scratch::t][i];
+      n = {a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]};
+    } else if (kind != HitKind::none) {
+      t = s.object[i].t;
+      n = s.object[i].normal;
+    }
+    if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};
+    if (!out->depth.empty()) {
+      const float z = sea || kind != HitKind::none ? t * dot(d, camera.forward) : t;
+      out->depth[o + i] = first ? z : std::min(out->depth[o + i], z);
+    }
+    if (!out->normal.empty()) {
+      float* p = &out->normal[3 * (o + i)];
+      for (int c = 0; c < 3; ++c) p[c] = (first ? 0.0f : p[c]) + n[c] * share;
+    }
+    if (!out->alpha.empty()) {
+      const bool covered = sea || kind != HitKind::none || camera_under;
+      out->alpha[o + i] = (first ? 0.0f : out->alpha[o + i]) + (covered ? share : 0.0f);
+    }
+    if (!out->sea.empty()) out->sea[o + i] = (first ? 0.0f : out->sea[o + i]) + (sea ? share : 0.0f);
+  }
+}
+
 void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
   const std::size_t w = width;
   float* const* a = s.a;
@@ -388,6 +429,7 @@ void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
     march_rays(*surface, march, rays, w, hits);
     const auto t2 = Clock::now();
     shade_sample(s);
+    if (aovs) add_aovs(s, row, k);
     const auto t3 = Clock::now();
     s.intersect_ns += (t1 - t0).count();
     s.march_ns += (t2 - t1).count();
@@ -494,12 +536,24 @@ std::uint32_t Renderer::width() const noexcept { return impl_->width; }
 std::uint32_t Renderer::height() const noexcept { return impl_->height; }
 unsigned Renderer::threads() const noexcept { return impl_->pool->size(); }
 
+void Renderer::move_box(std::size_t box, const BoxPose& pose) noexcept { impl_->objects.move_box(box, pose); }
+void Renderer::move_sphere(std::size_t sphere, const std::array<float, 3>& center) noexcept {
+  impl_->objects.move_sphere(sphere, center);
+}
+
 void Renderer::fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept {
   HOULE_ASSERT(sampler != nullptr, "Renderer::fill_surface: a sampler");
   const unsigned parts = std::min(impl_->pool->size(), SurfaceFrame::max_fill_parts);
   surface.begin_fill();
   impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
     surface.fill_part(sampler, context, unsigned(part), parts);
+  });
+  // The morph and the tiles' bounds too: alone on one thread they left the other idle.
+  impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
+    surface.morph_part(unsigned(part), parts);
+  });
+  impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
+    surface.bound_part(unsigned(part), parts);
   });
   surface.finish_frame();
 }
@@ -515,9 +569,14 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
                "Renderer::render: a framebuffer of the renderer's width x height");
   HOULE_ASSERT(camera.width == r.width && camera.height == r.height,
                "Renderer::render: a camera of the renderer's width and height");
+  const std::size_t pixels = std::size_t(r.width) * r.height;
+  const bool aov_sizes = (out.depth.empty() || out.depth.size() == pixels) &&
+                         (out.normal.empty() || out.normal.size() == 3 * pixels) &&
+                         (out.alpha.empty() || out.alpha.size() == pixels) && (out.sea.empty() || out.sea.size() == pixels);
+  HOULE_ASSERT(aov_sizes, "Renderer::render: each AOV of the framebuffer empty or of its width x height");
   // Without assertions a wrong call still writes nothing.
   if (out.width != int(r.width) || out.height != int(r.height) || out.rgb.size() != std::size_t(r.width) * r.height * 3 ||
-      camera.width != r.width || camera.height != r.height) {
+      camera.width != r.width || camera.height != r.height || !aov_sizes) {
     return;
   }
   r.surface = &surface;
@@ -530,6 +589,7 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   r.memo_camera = camera;
   r.out = &out;
   r.view = view;
+  r.aovs = !out.depth.empty() || !out.normal.empty() || !out.alpha.empty() || !out.sea.empty();
   r.march = {};
   r.march.pixel_angle = camera.pixel_angle;
   r.march.quality = r.quality.march;

@@ -78,8 +78,11 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
     }
     if (!std::isfinite(b.yaw_rad)) return Error{field + ".yaw_rad", "a finite angle in rad"};
     if (!reflectance_ok(b.colour)) return Error{field + ".colour", "a diffuse reflectance, each channel in [0, 1]"};
+    if (!(std::isfinite(b.motion) && b.motion >= 0.0f)) return Error{field + ".motion", "a finite length >= 0 in m"};
+    const double c = std::cos(double(b.yaw_rad)), sn = std::sin(double(b.yaw_rad));
     s.boxes_.push_back({b.center[0], b.center[1], b.center[2], b.half_extent[0], b.half_extent[1], b.half_extent[2],
-                        std::cos(double(b.yaw_rad)), std::sin(double(b.yaw_rad)), b.colour});
+                        {{c, sn, 0.0}, {-sn, c, 0.0}, {0.0, 0.0, 1.0}}, b.colour,
+                        s.add_mover(b.center, b.motion, double(b.half_extent[0]) + b.half_extent[1] + b.half_extent[2])});
   }
   for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
     const RenderSphere& sp = scene.spheres[k];
@@ -87,7 +90,8 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
     if (!finite3(sp.center)) return Error{field + ".center", "three finite coordinates in m"};
     if (!(std::isfinite(sp.radius) && sp.radius > 0.0f)) return Error{field + ".radius", "a finite length > 0 in m"};
     if (!reflectance_ok(sp.colour)) return Error{field + ".colour", "a diffuse reflectance, each channel in [0, 1]"};
-    s.spheres_.push_back({sp.center[0], sp.center[1], sp.center[2], sp.radius, sp.colour});
+    if (!(std::isfinite(sp.motion) && sp.motion >= 0.0f)) return Error{field + ".motion", "a finite length >= 0 in m"};
+    s.spheres_.push_back({sp.center[0], sp.center[1], sp.center[2], sp.radius, sp.colour, s.add_mover(sp.center, sp.motion, sp.radius)});
   }
 
   s.build_bvh();
@@ -153,7 +157,59 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
       }
     }
   }
+  s.build_clearance();
   return s;
+}
+
+void SceneObjects::build_clearance() {
+  // Per cell, the highest sample of the cells within clear_cells of it in each axis: the maximum of
+  // the cells' corner maxima over a (2 clear_cells + 1)^2 window, separably (rows, then columns).
+  const std::int64_t cx = level_nx_[0], cy = level_ny_[0], k = clear_cells;
+  std::vector<float> corner(std::size_t(cx * cy)), rows(corner.size());
+  for (std::int64_t j = 0; j < cy; ++j) {
+    for (std::int64_t i = 0; i < cx; ++i) {
+      corner[std::size_t(j * cx + i)] =
+          std::max(std::max(sample(i, j), sample(i + 1, j)), std::max(sample(i, j + 1), sample(i + 1, j + 1)));
+    }
+  }
+  const auto window_max = [k](const float* p, std::int64_t n, std::int64_t step, std::int64_t at) {
+    float m = -std::numeric_limits<float>::infinity();
+    for (std::int64_t a = std::max<std::int64_t>(0, at - k); a <= std::min(n - 1, at + k); ++a) m = std::max(m, p[a * step]);
+    return m;
+  };
+  for (std::int64_t j = 0; j < cy; ++j) {
+    for (std::int64_t i = 0; i < cx; ++i) rows[std::size_t(j * cx + i)] = window_max(&corner[std::size_t(j * cx)], cx, 1, i);
+  }
+  clear_max_.resize(corner.size());
+  for (std::int64_t j = 0; j < cy; ++j) {
+    for (std::int64_t i = 0; i < cx; ++i) clear_max_[std::size_t(j * cx + i)] = window_max(&rows[std::size_t(i)], cy, cx, j);
+  }
+}
+
+double SceneObjects::clear_until(const SceneRay& r, double t0, double t1) const noexcept {
+  // From a point in cell c (clamped to the grid: the extended edges repeat the edge samples, and
+  // clamping moves no two points further apart), every point within clear_cells cells in each axis
+  // lies in c's window, so the floor there is at most clear_max_[c]. The ray stays that close while it
+  // moves clear_cells cells along its faster horizontal axis (less a hundredth of a cell, for the
+  // rounding of the cell's index), and, as it does not descend, cannot meet the floor there while it
+  // starts above that maximum (plus a margin far beyond the walk's rounding).
+  constexpr double margin = 1e-4;  // m
+  constexpr int max_jumps = 4;
+  const double speed = std::max(std::abs(r.dx), std::abs(r.dy));
+  const double reach = (double(clear_cells) - 0.01) * cell_ / speed;  // +inf for a vertical ray
+  const double inv_cell = level_inv_size_[0], last_i = double(level_nx_[0] - 1), last_j = double(level_ny_[0] - 1);
+  double t = t0;
+  for (int n = 0; n < max_jumps && t < t1; ++n) {
+    const double fx = (r.ox + t * r.dx - origin_x_) * inv_cell, fy = (r.oy + t * r.dy - origin_y_) * inv_cell;
+    // Clamped (NaN to 0: the z test below stops a NaN ray, which the walk then handles as before).
+    const auto i = std::size_t(fx > 0.0 ? (fx < last_i ? fx : last_i) : 0.0);
+    const auto j = std::size_t(fy > 0.0 ? (fy < last_j ? fy : last_j) : 0.0);
+    const double top = double(clear_max_[j * std::size_t(level_nx_[0]) + i]) + margin;
+    if (!(r.oz + t * r.dz > top)) break;
+    if (!(t + reach > t)) break;
+    t += reach;
+  }
+  return std::min(t, t1);
 }
 
 void SceneObjects::build_bvh() {
@@ -175,14 +231,22 @@ void SceneObjects::build_bvh() {
     }
     prims.push_back(p);
   };
+  // A moving object: everywhere it may go, in any orientation.
   for (std::size_t k = 0; k < boxes_.size(); ++k) {
     const Box& b = boxes_[k];
-    const double ac = std::abs(b.cos_yaw), as = std::abs(b.sin_yaw);
+    if (b.mover >= 0) {
+      const Mover& m = movers_[std::size_t(b.mover)];
+      const double reach = m.hi[0] - m.rest[0];
+      add(std::uint32_t(k), b.cx, b.cy, b.cz, reach, reach, reach);
+      continue;
+    }
+    const double ac = std::abs(b.axes[0][0]), as = std::abs(b.axes[0][1]);
     add(std::uint32_t(k), b.cx, b.cy, b.cz, ac * b.hx + as * b.hy, as * b.hx + ac * b.hy, b.hz);
   }
   for (std::size_t k = 0; k < spheres_.size(); ++k) {
     const Sphere& sp = spheres_[k];
-    add(std::uint32_t(k) | sphere_bit, sp.cx, sp.cy, sp.cz, sp.radius, sp.radius, sp.radius);
+    const double reach = sp.mover >= 0 ? movers_[std::size_t(sp.mover)].hi[0] - movers_[std::size_t(sp.mover)].rest[0] : sp.radius;
+    add(std::uint32_t(k) | sphere_bit, sp.cx, sp.cy, sp.cz, reach, reach, reach);
   }
   nodes_.clear();
   primitives_.clear();
@@ -263,8 +327,12 @@ struct SceneObjects::FloorQuery {
 SceneObjects::FloorSpan SceneObjects::floor_span(const SceneRay& r, double t_min, double t_max, double z_lo) const noexcept {
   constexpr FloorSpan none{0.0, 0.0, 0, false};
   if (nx_ == 0) return none;
-  // Only where the ray is inside the floor's height range (and above z_lo) can it meet the floor.
-  const double lo = std::max(z_min_, z_lo), hi = z_max_;
+  // Only where the ray is inside the floor's height range (and above z_lo) can it meet the floor. The
+  // range reaches a little below the lowest ground: a ray meeting ground that lies at that height (the
+  // flat extension beyond the deepest edge) meets it at the span's very end, where rounding would
+  // keep or drop the root from one ray to the next.
+  constexpr double below = 1e-3;  // m
+  const double lo = std::max(z_min_ - below, z_lo), hi = z_max_;
   if (!(lo <= hi)) return none;
   double t0 = t_min, t1 = std::min(t_max, max_walk_distance);
   if (r.dz > 0.0) {
@@ -298,10 +366,18 @@ SceneObjects::FloorWalk SceneObjects::walk_floor(const SceneRay& r, const FloorS
   return {q.t_hit, q.cell_start, q.cell_end, q.blocks_pass};
 }
 
-double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, double z_lo,
-                               std::array<float, 3>* normal) const noexcept {
-  const FloorSpan span = floor_span(r, t_min, t_max, z_lo);
-  return span.walk ? walk_floor(r, span, t_max, normal).t : t_max;
+double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, double z_lo, std::array<float, 3>* normal,
+                               bool skip_clear) const noexcept {
+  FloorSpan span = floor_span(r, t_min, t_max, z_lo);
+  if (!span.walk) return t_max;
+  // Rays that rise (reflected rays, shadows) start low over the ground they clear; rays that descend
+  // (refracted) meet the floor within a few cells, where the jumps would cost more than they skip.
+  if (skip_clear && !(r.dz < 0.0)) {
+    span.t0 = clear_until(r, span.t0, span.t1);
+    if (!(span.t0 < span.t1)) return t_max;
+    span.level = first_level(r, span.t0, span.t1);
+  }
+  return walk_floor(r, span, t_max, normal).t;
 }
 
 double SceneObjects::farthest_end(const SceneRay& r, const FloorSpan& span, double t_max) const noexcept {
@@ -394,9 +470,10 @@ bool SceneObjects::hit_cell(FloorQuery& q, std::int64_t i, std::int64_t j, doubl
 bool SceneObjects::hit_box(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept {
   const Box& b = boxes_[k];
   const double px = r.ox - b.cx, py = r.oy - b.cy, pz = r.oz - b.cz;
-  // Into the box's frame: local x along (cos, sin), y along (-sin, cos).
-  const double l[3] = {b.cos_yaw * px + b.sin_yaw * py, -b.sin_yaw * px + b.cos_yaw * py, pz};
-  const double d[3] = {b.cos_yaw * r.dx + b.sin_yaw * r.dy, -b.sin_yaw * r.dx + b.cos_yaw * r.dy, r.dz};
+  // Into the box's frame.
+  const auto local = [&](int a, double x, double y, double z) { return b.axes[a][0] * x + b.axes[a][1] * y + b.axes[a][2] * z; };
+  const double l[3] = {local(0, px, py, pz), local(1, px, py, pz), local(2, px, py, pz)};
+  const double d[3] = {local(0, r.dx, r.dy, r.dz), local(1, r.dx, r.dy, r.dz), local(2, r.dx, r.dy, r.dz)};
   const double h[3] = {b.hx, b.hy, b.hz};
   double t_near = -inf, t_far = inf;
   int axis_near = 0, axis_far = 0;
@@ -417,9 +494,8 @@ bool SceneObjects::hit_box(std::uint32_t k, const SceneRay& r, double t_min, dou
   if (!(t >= t_min && t < best)) return false;
   const int axis = outside ? axis_near : axis_far;
   const double sign = (d[axis] > 0.0) == outside ? -1.0 : 1.0;
-  std::array<double, 3> n{0.0, 0.0, sign};
-  if (axis == 0) n = {b.cos_yaw * sign, b.sin_yaw * sign, 0.0};
-  if (axis == 1) n = {-b.sin_yaw * sign, b.cos_yaw * sign, 0.0};
+  const double* const e = b.axes[axis];
+  const std::array<double, 3> n{e[0] * sign, e[1] * sign, e[2] * sign};
   best = t;
   hit = {float(t), HitKind::box, k, {float(n[0]), float(n[1]), float(n[2])}};
   return true;
@@ -492,17 +568,110 @@ SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_m
   return hit;
 }
 
-SurfaceHit SceneObjects::intersect(const SceneRay& r, double t_min, double t_max, double floor_z_lo) const noexcept {
+SurfaceHit SceneObjects::nearest(const SceneRay& r, double t_min, double t_max, double floor_z_lo,
+                                 bool skip_clear) const noexcept {
   SurfaceHit hit = hit_objects(r, t_min, t_max);
   const double best = hit.kind == HitKind::none ? t_max : double(hit.t);
   std::array<float, 3> n{};
-  const double tf = floor_hit(r, t_min, best, floor_z_lo, &n);
+  const double tf = floor_hit(r, t_min, best, floor_z_lo, &n, skip_clear);
   if (tf < best) hit = {float(tf), HitKind::floor, 0, n};
   return hit;
 }
 
+SurfaceHit SceneObjects::intersect(const SceneRay& r, double t_min, double t_max, double floor_z_lo) const noexcept {
+  return nearest(r, t_min, t_max, floor_z_lo, false);
+}
+
+SurfaceHit SceneObjects::intersect_secondary(const SceneRay& r, double t_min, double t_max) const noexcept {
+  return nearest(r, t_min, t_max, -inf, true);
+}
+
 SurfaceHit SceneObjects::intersect_primary(const SceneRay& r, float t_max, double floor_z_lo, PrimaryMemo& memo,
                                            bool refill, bool& reused) const noexcept {
+  // What the memo holds of a ray that met a moving object's bounds, or that meets them now, may not
+  // be this frame's objects: the ray starts afresh. Elsewhere the moving objects are not met, now or
+  // then, and the memo's objects and floor walks are the fixed scene's.
+  const bool movers = !movers_.empty() && meets_movers(r, double(t_max));
+  const SurfaceHit hit = intersect_memo(r, t_max, floor_z_lo, memo, refill || movers || memo.movers, reused);
+  memo.movers = movers;
+  return hit;
+}
+
+bool SceneObjects::meets_movers(const SceneRay& r, double t_max) const noexcept {
+  const double inv[3] = {1.0 / r.dx, 1.0 / r.dy, 1.0 / r.dz};
+  const double o[3] = {r.ox, r.oy, r.oz};
+  for (const Mover& m : movers_) {
+    double t0 = 0.0, t1 = t_max;
+    for (int a = 0; a < 3; ++a) {
+      double ta = (m.lo[a] - o[a]) * inv[a], tb = (m.hi[a] - o[a]) * inv[a];
+      if (ta > tb) std::swap(ta, tb);
+      // NaN (a ray parallel to a slab, on its plane) keeps the slab: conservative.
+      t0 = ta > t0 ? ta : t0;
+      t1 = tb < t1 ? tb : t1;
+    }
+    if (t0 <= t1) return true;
+  }
+  return false;
+}
+
+std::int32_t SceneObjects::add_mover(const std::array<float, 3>& center, float motion, double reach) {
+  if (!(motion > 0.0f)) return -1;
+  Mover m{{center[0], center[1], center[2]}, motion, {}, {}};
+  for (int a = 0; a < 3; ++a) {
+    m.lo[a] = m.rest[a] - reach - m.motion;
+    m.hi[a] = m.rest[a] + reach + m.motion;
+  }
+  movers_.push_back(m);
+  return std::int32_t(movers_.size() - 1);
+}
+
+namespace {
+// The centre clamped to within `motion` of `rest` on each axis, from float coordinates.
+void clamp_centre(const std::array<float, 3>& c, const double (&rest)[3], double motion, double& x, double& y, double& z) {
+  const auto clamp = [&](float v, int a) {
+    return std::isfinite(v) ? std::clamp(double(v), rest[a] - motion, rest[a] + motion) : rest[a];
+  };
+  x = clamp(c[0], 0), y = clamp(c[1], 1), z = clamp(c[2], 2);
+}
+// The present bounds: `reach` from the centre on each axis, widened far beyond double rounding so
+// that no ray the exact tests find meeting the object is said to miss them.
+void set_bounds(double (&lo)[3], double (&hi)[3], const double (&centre)[3], const double (&reach)[3]) {
+  for (int c = 0; c < 3; ++c) {
+    const double pad = 1e-6 * (std::abs(centre[c]) + reach[c]);
+    lo[c] = centre[c] - reach[c] - pad;
+    hi[c] = centre[c] + reach[c] + pad;
+  }
+}
+}  // namespace
+
+void SceneObjects::move_box(std::size_t k, const BoxPose& pose) noexcept {
+  if (k >= boxes_.size() || boxes_[k].mover < 0) return;
+  Box& b = boxes_[k];
+  Mover& m = movers_[std::size_t(b.mover)];
+  clamp_centre(pose.center, m.rest, m.motion, b.cx, b.cy, b.cz);
+  // Unit axes, so that the box stays inside the bounds of everywhere it may go.
+  for (int a = 0; a < 3; ++a) {
+    const std::array<float, 3>& e = pose.axes[std::size_t(a)];
+    const double norm = std::sqrt(double(e[0]) * e[0] + double(e[1]) * e[1] + double(e[2]) * e[2]);
+    for (int c = 0; c < 3; ++c) b.axes[a][c] = norm > 0.0 && std::isfinite(norm) ? double(e[std::size_t(c)]) / norm : double(a == c);
+  }
+  const double centre[3] = {b.cx, b.cy, b.cz};
+  double reach[3];
+  for (int c = 0; c < 3; ++c) reach[c] = std::abs(b.axes[0][c]) * b.hx + std::abs(b.axes[1][c]) * b.hy + std::abs(b.axes[2][c]) * b.hz;
+  set_bounds(m.lo, m.hi, centre, reach);
+}
+
+void SceneObjects::move_sphere(std::size_t k, const std::array<float, 3>& center) noexcept {
+  if (k >= spheres_.size() || spheres_[k].mover < 0) return;
+  Sphere& sp = spheres_[k];
+  Mover& m = movers_[std::size_t(sp.mover)];
+  clamp_centre(center, m.rest, m.motion, sp.cx, sp.cy, sp.cz);
+  const double centre[3] = {sp.cx, sp.cy, sp.cz}, reach[3] = {sp.radius, sp.radius, sp.radius};
+  set_bounds(m.lo, m.hi, centre, reach);
+}
+
+SurfaceHit SceneObjects::intersect_memo(const SceneRay& r, float t_max, double floor_z_lo, PrimaryMemo& memo,
+                                        bool refill, bool& reused) const noexcept {
   reused = !refill;
   if (refill) memo = {.objects = hit_objects(r, 0.0, double(t_max))};
   const SurfaceHit& objects = memo.objects;
@@ -561,7 +730,7 @@ SurfaceHit SceneObjects::intersect_primary(const SceneRay& r, float t_max, doubl
 bool SceneObjects::occluded(const SceneRay& r, double t_min, double t_max, bool floor) const noexcept {
   // The objects are cheap next to the floor walk: test them first.
   if (hit_objects(r, t_min, t_max, true).kind != HitKind::none) return true;
-  return floor && floor_hit(r, t_min, t_max, -inf, nullptr) < t_max;
+  return floor && floor_hit(r, t_min, t_max, -inf, nullptr, true) < t_max;
 }
 
 LinearRgb SceneObjects::albedo(const SurfaceHit& hit) const noexcept {

@@ -9,7 +9,8 @@
 // robust for the long, grazing rays a low camera sends over the beach.
 //
 // Primary rays of a still camera keep what they met from one frame to the next (PrimaryMemo,
-// docs/rendering.md 2.4): only the sea's slab moves, and with it where the floor walk stops.
+// docs/rendering.md 2.4): only the sea's slab moves, and with it where the floor walk stops, and the
+// moving objects (floating ones), whose rays are found afresh each frame.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -47,6 +48,7 @@ struct PrimaryMemo {
   float floor_t = std::numeric_limits<float>::infinity();
   std::array<float, 3> floor_normal{0.0f, 0.0f, 1.0f};
   std::int8_t level = -1;  ///< the walks' first level; -1: no walk known
+  bool movers = false;     ///< the ray met a moving object's bounds when this was kept: not to be reused
 };
 
 class SceneObjects {
@@ -63,15 +65,26 @@ class SceneObjects {
   /// above floor_z_lo (m): a primary ray below the sea's slab has crossed the sea already.
   SurfaceHit intersect(const SceneRay& ray, double t_min, double t_max,
                        double floor_z_lo = -std::numeric_limits<double>::infinity()) const noexcept;
+  /// The nearest hit with t in [t_min, t_max) of a secondary ray (reflected, refracted): intersect's
+  /// hit, found by a floor walk that starts where the floor's clearance map (the highest ground
+  /// around each cell) no longer shows the ray above all of it. The hit is the same one; its t and
+  /// normal may differ from intersect's in the last bits of the double arithmetic (the walk enters
+  /// the hit's cell from another start).
+  SurfaceHit intersect_secondary(const SceneRay& ray, double t_min, double t_max) const noexcept;
   /// intersect(ray, 0, t_max, floor_z_lo), bit for bit, from what `memo` knows when it covers
   /// floor_z_lo, else with a walk that `memo` then remembers (`reused` tells which). `refill`
   /// starts `memo` afresh; without it, `memo` must hold earlier calls' for the same ray and t_max (a
-  /// still camera: most frames then skip the walks).
+  /// still camera: most frames then skip the walks). A ray that meets a moving object's bounds, now
+  /// or when `memo` was kept, starts it afresh too.
   SurfaceHit intersect_primary(const SceneRay& ray, float t_max, double floor_z_lo, PrimaryMemo& memo, bool refill,
                                bool& reused) const noexcept;
   /// Whether anything lies on the ray with t in [t_min, t_max) (shadow rays); the floor only when
-  /// `floor` is set.
+  /// `floor` is set (walked from its clearance, as intersect_secondary does).
   bool occluded(const SceneRay& ray, double t_min, double t_max, bool floor = true) const noexcept;
+  /// Moves box `k` or sphere `k` (one with motion > 0; others are left alone): the centre is clamped
+  /// to within its motion of its place in the scene, per axis.
+  void move_box(std::size_t k, const BoxPose& pose) noexcept;
+  void move_sphere(std::size_t k, const std::array<float, 3>& center) noexcept;
   /// Diffuse reflectance of what was hit.
   LinearRgb albedo(const SurfaceHit& hit) const noexcept;
 
@@ -83,13 +96,30 @@ class SceneObjects {
 
  private:
   struct Box {
-    double cx, cy, cz, hx, hy, hz, cos_yaw, sin_yaw;
+    double cx, cy, cz, hx, hy, hz;
+    double axes[3][3];  // the local axes in world coordinates
     LinearRgb colour;
+    std::int32_t mover;  // index into movers_, -1 for a box that never moves
   };
   struct Sphere {
     double cx, cy, cz, radius;
     LinearRgb colour;
+    std::int32_t mover;
   };
+  // A moving object: where the scene put its centre, how far it may go, and the bounds of where it
+  // is now (the bounding volume hierarchy holds the bounds of everywhere it may go).
+  struct Mover {
+    double rest[3], motion, lo[3], hi[3];
+  };
+  /// A mover for an object at `center` reaching `reach` from its centre in any orientation (index
+  /// into movers_), or -1 when motion is 0. Its present bounds start as everywhere it may go.
+  std::int32_t add_mover(const std::array<float, 3>& center, float motion, double reach);
+  /// Whether the ray meets a moving object's present bounds with t in [0, t_max).
+  bool meets_movers(const SceneRay& ray, double t_max) const noexcept;
+  SurfaceHit intersect_memo(const SceneRay& ray, float t_max, double floor_z_lo, PrimaryMemo& memo, bool refill,
+                            bool& reused) const noexcept;
+  /// intersect (skip_clear false) or intersect_secondary (true).
+  SurfaceHit nearest(const SceneRay& ray, double t_min, double t_max, double floor_z_lo, bool skip_clear) const noexcept;
   /// Nearest box or sphere hit in [t_min, t_max) (with `any`: the first found).
   SurfaceHit hit_objects(const SceneRay& ray, double t_min, double t_max, bool any = false) const noexcept;
   bool hit_box(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
@@ -117,9 +147,13 @@ class SceneObjects {
   /// height range or t_max, or the end beyond which the first level would change.
   double farthest_end(const SceneRay& ray, const FloorSpan& span, double t_max) const noexcept;
   /// Nearest floor hit in [t_min, t_max) where the ray is at or above z_lo (t_max when none); writes
-  /// the normal on a hit when `normal` is not null.
-  double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo,
-                   std::array<float, 3>* normal) const noexcept;
+  /// the normal on a hit when `normal` is not null. With `skip_clear` the walk starts at clear_until.
+  double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo, std::array<float, 3>* normal,
+                   bool skip_clear) const noexcept;
+  /// For a ray that does not descend: a t in [t0, t1] before which it provably stays above the floor
+  /// (t1: above it all along), from the clearance map in at most a few jumps of clear_cells cells.
+  double clear_until(const SceneRay& ray, double t0, double t1) const noexcept;
+  void build_clearance();
   float sample(std::int64_t i, std::int64_t j) const noexcept;
   struct FloorQuery;
   bool walk_level(int level, FloorQuery& q, double ta, double tb, std::int64_t steps) const noexcept;
@@ -127,6 +161,7 @@ class SceneObjects {
 
   std::vector<Box> boxes_;
   std::vector<Sphere> spheres_;
+  std::vector<Mover> movers_;
   // Bounding volume hierarchy over boxes and spheres (walls are many boxes). A node is a leaf when
   // count > 0 (primitives_[first .. first + count)), else its children are nodes first, first + 1.
   struct Node {
@@ -149,6 +184,10 @@ class SceneObjects {
   std::int64_t level_nx_[max_levels] = {}, level_ny_[max_levels] = {};
   std::vector<float> level_max_[max_levels];
   double level_size_[max_levels] = {}, level_inv_size_[max_levels] = {};  // m and 1/m: cell_ B^k
+  // The clearance map: per floor cell (level 0's), the highest sample within clear_cells cells of it
+  // in each axis (a dilated maximum), over which secondary rays jump instead of walking.
+  static constexpr int clear_cells = 4;
+  std::vector<float> clear_max_;
   double z_min_ = -std::numeric_limits<double>::infinity(), z_max_ = -std::numeric_limits<double>::infinity();
   LinearRgb sand_{};
 };

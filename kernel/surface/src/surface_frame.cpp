@@ -32,10 +32,11 @@ Layout layout(const SurfaceFrameConfig& c) {
   l.tile_floats = round_up(std::size_t(c.levels) * l.tiles * l.tiles, align_floats);
   l.flag_floats = round_up((std::size_t(c.levels) * l.tiles * l.tiles + 3) / 4, align_floats);  // one byte per tile
   // height, grad_x, grad_y; four tile arrays; the tiles' fill flags; the fill's x and y rows per part;
-  // the bounds pass's
-  // 4 column arrays, with a batch of slack after each (the column kernel works in whole batches).
+  // per part, the bounds pass's 4 column arrays, with a batch of slack after each (the column kernel
+  // works in whole batches).
   l.total_floats = 3 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats +
-                   2 * SurfaceFrame::max_fill_parts * l.stride + 4 * (l.stride + align_floats);
+                   2 * SurfaceFrame::max_fill_parts * l.stride +
+                   SurfaceFrame::max_fill_parts * 4 * (l.stride + align_floats);
   return l;
 }
 
@@ -327,11 +328,37 @@ void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned par
 }
 
 void SurfaceFrame::finish_frame() noexcept {
-  // Level l's morph reads level l + 1 where that level is not morphed itself (its band lies beyond
-  // level l's reach), so the order does not matter; morph once per fill.
-  for (std::uint32_t l = 0; l < config_.levels; ++l) finish_level(l);
+  if (!morphed_) morph_part(0, 1);
+  if (!bounded_) bound_part(0, 1);
+  for (std::uint32_t l = 1; l < config_.levels; ++l) merge_finer(l);
   finish_global();
-  morphed_ = true;
+  bounded_ = false;  // a later finish_frame() (without a new fill) bounds again, as before
+}
+
+void SurfaceFrame::morph_part(unsigned part, unsigned parts) noexcept {
+  HOULE_ASSERT(parts >= 1 && parts <= max_fill_parts && part < parts, "SurfaceFrame::morph_part: part < parts <= max_fill_parts");
+  // Level l's morph reads level l + 1 where that level is not morphed itself (its band lies beyond
+  // level l's reach), so neither the order of the levels nor of the rows matters. Node rows are dealt
+  // out round-robin over all levels, as in fill_part.
+  std::size_t row_index = 0;
+  for (std::uint32_t l = 0; l < config_.levels; ++l) {
+    for (std::uint32_t j = 0; j <= config_.cells; ++j, ++row_index) {
+      if (row_index % parts == part) morph_row(l, j);
+    }
+  }
+  // Read by finish_frame() once every part is done; one part writes it, so parts never race on it.
+  if (part == 0) morphed_ = true;
+}
+
+void SurfaceFrame::bound_part(unsigned part, unsigned parts) noexcept {
+  HOULE_ASSERT(parts >= 1 && parts <= max_fill_parts && part < parts, "SurfaceFrame::bound_part: part < parts <= max_fill_parts");
+  std::size_t row_index = 0;
+  for (std::uint32_t l = 0; l < config_.levels; ++l) {
+    for (std::uint32_t tj = 0; tj < tiles_; ++tj, ++row_index) {
+      if (row_index % parts == part) bound_tile_row(l, tj, part);
+    }
+  }
+  if (part == 0) bounded_ = true;  // as morphed_ above
 }
 
 namespace {
@@ -357,7 +384,7 @@ struct ColumnStats {
 
 }  // namespace
 
-void SurfaceFrame::morph_level(std::uint32_t l) noexcept {
+void SurfaceFrame::morph_row(std::uint32_t l, std::uint32_t j) noexcept {
   // Geomorphing (as in CDLOD): in the outer band of its reach a level's nodes move toward the next
   // coarser level's bilinear surface, reaching it a cell before the reach so that every cell touching
   // the reach is wholly the coarser surface. H stays one bilinear fetch per sample, continuous across
@@ -379,85 +406,96 @@ void SurfaceFrame::morph_level(std::uint32_t l) noexcept {
   const float* partners[3] = {last ? nullptr : heights(l + 1), last ? nullptr : grad_x(l + 1),
                               last ? nullptr : grad_y(l + 1)};
   const float far_values[3] = {config_.far_height, 0.0f, 0.0f};
-  for (std::uint32_t j = 0; j < nodes; ++j) {
-    const float dy = std::fabs(s.origin_y + float(j) * s.cell - centre_y_);
-    const std::uint32_t upper = std::min(j / tc, tiles_ - 1), lower = j % tc == 0 && j > 0 ? j / tc - 1 : upper;
-    for (std::uint32_t i = 0; i < nodes; ++i) {
-      // Filled nodes only (a node belongs to up to four tiles).
-      const std::uint32_t ti = std::min(i / tc, tiles_ - 1), tl = i % tc == 0 && i > 0 ? i / tc - 1 : ti;
-      if (!(need[upper * tiles_ + ti] || need[upper * tiles_ + tl] || need[lower * tiles_ + ti] ||
-            need[lower * tiles_ + tl])) {
-        continue;
-      }
-      const float r = std::max(std::fabs(s.origin_x + float(i) * s.cell - centre_x_), dy);
-      if (!(r > band_start)) continue;
-      float x = (r - band_start) * inv_band;
-      x = x < 1.0f ? x : 1.0f;
-      const float w = x * x * (3.0f - 2.0f * x);
-      const std::size_t k = j * stride_ + i;
-      for (int f = 0; f < 3; ++f) {
-        float p = far_values[f];
-        if (!last) {
-          // The partner's bilinear value at fractions 0 or 1/2, horizontal first as in the marcher.
-          const float* q = partners[f] + std::size_t(py + std::int64_t(j / 2)) * stride_ + std::size_t(px + std::int64_t(i / 2));
-          const float u0 = (i & 1) ? q[0] + 0.5f * (q[1] - q[0]) : q[0];
-          if (j & 1) {
-            const float* q1 = q + stride_;
-            const float u1 = (i & 1) ? q1[0] + 0.5f * (q1[1] - q1[0]) : q1[0];
-            p = u0 + 0.5f * (u1 - u0);
-          } else {
-            p = u0;
-          }
+  const float dy = std::fabs(s.origin_y + float(j) * s.cell - centre_y_);
+  const std::uint32_t upper = std::min(j / tc, tiles_ - 1), lower = j % tc == 0 && j > 0 ? j / tc - 1 : upper;
+  // On a row inside the band's inner edge, the nodes more than a cell inside it in x keep their
+  // values (the test below would pass them over one by one): [inner_lo, inner_hi) is skipped.
+  std::uint32_t inner_lo = nodes, inner_hi = nodes;
+  if (!(dy > band_start)) {
+    const double a = std::ceil((double(centre_x_) - band_start - s.origin_x) / s.cell) + 1.0;
+    const double b = std::floor((double(centre_x_) + band_start - s.origin_x) / s.cell) - 1.0;
+    if (a <= b && a < nodes && b >= 0.0) {
+      inner_lo = std::uint32_t(std::max(a, 0.0));
+      inner_hi = std::uint32_t(std::min(b + 1.0, double(nodes)));
+    }
+  }
+  for (std::uint32_t i = 0; i < nodes; ++i) {
+    if (i == inner_lo) i = inner_hi;
+    if (i == nodes) break;
+    const float r = std::max(std::fabs(s.origin_x + float(i) * s.cell - centre_x_), dy);
+    if (!(r > band_start)) continue;
+    // Filled nodes only (a node belongs to up to four tiles).
+    const std::uint32_t ti = std::min(i / tc, tiles_ - 1), tl = i % tc == 0 && i > 0 ? i / tc - 1 : ti;
+    if (!(need[upper * tiles_ + ti] || need[upper * tiles_ + tl] || need[lower * tiles_ + ti] ||
+          need[lower * tiles_ + tl])) {
+      continue;
+    }
+    float x = (r - band_start) * inv_band;
+    x = x < 1.0f ? x : 1.0f;
+    const float w = x * x * (3.0f - 2.0f * x);
+    const std::size_t k = j * stride_ + i;
+    for (int f = 0; f < 3; ++f) {
+      float p = far_values[f];
+      if (!last) {
+        // The partner's bilinear value at fractions 0 or 1/2, horizontal first as in the marcher.
+        const float* q = partners[f] + std::size_t(py + std::int64_t(j / 2)) * stride_ + std::size_t(px + std::int64_t(i / 2));
+        const float u0 = (i & 1) ? q[0] + 0.5f * (q[1] - q[0]) : q[0];
+        if (j & 1) {
+          const float* q1 = q + stride_;
+          const float u1 = (i & 1) ? q1[0] + 0.5f * (q1[1] - q1[0]) : q1[0];
+          p = u0 + 0.5f * (u1 - u0);
+        } else {
+          p = u0;
         }
-        fields[f][k] = fields[f][k] + w * (p - fields[f][k]);
       }
+      fields[f][k] = fields[f][k] + w * (p - fields[f][k]);
     }
   }
 }
 
-void SurfaceFrame::finish_level(std::uint32_t l) noexcept {
+void SurfaceFrame::bound_tile_row(std::uint32_t l, std::uint32_t tj, unsigned part) noexcept {
   const SurfaceLevel& s = levels_[l];
   const std::uint32_t tc = config_.tile_cells, nt = tiles_;
-  if (!morphed_) morph_level(l);
   const float* h = heights(l);
+  const std::size_t column = stride_ + align_floats, base = std::size_t(part) * 4 * column;
+  const ColumnStats own{scratch_ + base, scratch_ + base + column, scratch_ + base + 2 * column,
+                        scratch_ + base + 3 * column};
+  const auto& kernels = simd::active_table<detail::SurfaceTable>();
+  const std::size_t row = std::size_t(l) * nt * nt + std::size_t(tj) * nt;
+  std::uint32_t first = nt, end = 0;
+  for (std::uint32_t ti = 0; ti < nt; ++ti) {
+    tile_min_[row + ti] = std::numeric_limits<float>::infinity();  // empty unless filled (or merged below)
+    tile_max_[row + ti] = -std::numeric_limits<float>::infinity();
+    tile_sx_[row + ti] = tile_sy_[row + ti] = 0.0f;
+    if (needed_[row + ti] == 0) continue;
+    first = std::min(first, ti);
+    end = ti + 1;
+  }
+  if (first == nt) return;
+  // H is bilinear in the (morphed) nodes: extremes and steepest edges are at nodes, so per-column
+  // statistics of the tile row reduced over each tile's columns bound it exactly.
+  const std::size_t j0 = std::size_t(tj) * tc;
+  kernels.surface_column_stats({h + j0 * stride_, stride_, tc + 1, std::size_t(first) * tc, std::size_t(end) * tc,
+                                own.lo, own.hi, own.dx, own.dy});
+  for (std::uint32_t ti = first; ti < end; ++ti) {
+    const std::size_t k = row + ti;
+    if (needed_[k] == 0) continue;
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo, sx = 0.0f, sy = 0.0f;
+    own.reduce(std::size_t(ti) * tc, tc, lo, hi, sx, sy);
+    float slope_x = sx / s.cell, slope_y = sy / s.cell;
+    add_margins(lo, hi, slope_x, slope_y);
+    tile_min_[k] = lo;
+    tile_max_[k] = hi;
+    tile_sx_[k] = slope_x;
+    tile_sy_[k] = slope_y;
+  }
+}
+
+void SurfaceFrame::merge_finer(std::uint32_t l) noexcept {
+  const SurfaceLevel& s = levels_[l];
+  const std::uint32_t tc = config_.tile_cells, nt = tiles_;
   const double cx = centre_x_, cy = centre_y_, tile = double(tc) * s.cell;
   const std::size_t base = std::size_t(l) * nt * nt;
-  const ColumnStats own{scratch_, scratch_ + (stride_ + align_floats), scratch_ + 2 * (stride_ + align_floats),
-                        scratch_ + 3 * (stride_ + align_floats)};
-  const auto& kernels = simd::active_table<detail::SurfaceTable>();
-
-  for (std::uint32_t tj = 0; tj < nt; ++tj) {
-    const std::size_t row = base + std::size_t(tj) * nt;
-    std::uint32_t first = nt, end = 0;
-    for (std::uint32_t ti = 0; ti < nt; ++ti) {
-      tile_min_[row + ti] = std::numeric_limits<float>::infinity();  // empty unless filled (or merged below)
-      tile_max_[row + ti] = -std::numeric_limits<float>::infinity();
-      tile_sx_[row + ti] = tile_sy_[row + ti] = 0.0f;
-      if (needed_[row + ti] == 0) continue;
-      first = std::min(first, ti);
-      end = ti + 1;
-    }
-    if (first == nt) continue;
-    // H is bilinear in the (morphed) nodes: extremes and steepest edges are at nodes, so per-column
-    // statistics of the tile row reduced over each tile's columns bound it exactly.
-    const std::size_t j0 = std::size_t(tj) * tc;
-    kernels.surface_column_stats({h + j0 * stride_, stride_, tc + 1, std::size_t(first) * tc, std::size_t(end) * tc,
-                                  own.lo, own.hi, own.dx, own.dy});
-    for (std::uint32_t ti = first; ti < end; ++ti) {
-      const std::size_t k = row + ti;
-      if (needed_[k] == 0) continue;
-      float lo = std::numeric_limits<float>::infinity(), hi = -lo, sx = 0.0f, sy = 0.0f;
-      own.reduce(std::size_t(ti) * tc, tc, lo, hi, sx, sy);
-      float slope_x = sx / s.cell, slope_y = sy / s.cell;
-      add_margins(lo, hi, slope_x, slope_y);
-      tile_min_[k] = lo;
-      tile_max_[k] = hi;
-      tile_sx_[k] = slope_x;
-      tile_sy_[k] = slope_y;
-    }
-  }
-
-  if (l == 0) return;
   // A level is sampled only outside the finer level's reach, but a ray stepping through one of its
   // tiles may enter that inner square: merge the finer tiles there, so that a tile bounds H over all
   // of it within this level's reach. The finer tiles are whole halves of this level's tiles.

@@ -14,6 +14,7 @@
 #include "houle/render/framebuffer.hpp"
 #include "houle/render/renderer.hpp"
 #include "houle/surface/surface_frame.hpp"
+#include "houle/sim/floating_objects.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "houle/sim/wave_rays.hpp"
@@ -32,8 +33,8 @@ struct Quality {
 };
 Quality quality_preset(QualityPreset q) noexcept;
 
-/// The renderer's view of a scene: the sea floor as a height grid, walls as stone blocks, objects,
-/// sun, sky and water.
+/// The renderer's view of a scene: the sea floor as a height grid, walls as stone blocks, objects
+/// (floating ones at rest on still water: Animation moves them), sun, sky and water.
 RenderScene make_render_scene(const Scene& scene);
 
 /// The worst-case memory of building `scene` (traced rays at their caps, the sea's grids at `sea_cell`,
@@ -55,12 +56,15 @@ class Animation {
   static Expected<Animation> create(const Scene& scene, const Quality& quality, std::uint32_t width,
                                     std::uint32_t height, unsigned threads);
 
-  /// Renders the frame at `time_s` into `out` (width x height). No heap allocation after the first frame.
+  /// Renders the frame at `time_s` into `out` (width x height), seen by the camera at that time (a
+  /// moving camera: camera_path.hpp), the floating objects posed on the sea at that time. No heap
+  /// allocation after the first frame.
   void render(double time_s, Framebuffer& out) noexcept;
 
   const AnimationTimes& last_times() const noexcept { return times_; }
   const WaveField& waves() const noexcept { return *waves_; }
   const Renderer& renderer() const noexcept { return renderer_; }
+  /// The camera of the last frame (before any: of time 0).
   const Camera& camera() const noexcept { return camera_; }
   double build_ms() const noexcept { return build_ms_; }
   /// Frames that built a capillary noise frame: 0 when the effect plan skips the noise.
@@ -74,6 +78,11 @@ class Animation {
   Renderer renderer_;
   SurfaceFrame surface_;
   Camera camera_{};
+  std::vector<FloatingObject> floating_;
+  double float_bound_ = 0.0;  ///< m, the sea's height bound: no floating object heaves beyond it
+  ViewCamera view_;  ///< the scene's camera, with its keys when it moves (camera_path.hpp)
+  std::uint32_t width_ = 0, height_ = 0;
+  void set_camera(double time_s) noexcept;
   std::optional<CapillaryParams> noise_params_;
   CapillaryFrame noise_{};
   AnimationTimes times_{};

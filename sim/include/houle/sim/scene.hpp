@@ -110,17 +110,27 @@ struct Wall {
   double crest_height = 1.5;      ///< m above still water (for rendering)
 };
 
+/// Sea water's density (kg/m^3): a floating object of density rho has rho / this of its volume under
+/// the still water line.
+inline constexpr double sea_water_density = 1025.0;
+
+/// Boxes and spheres may float (floating_object.hpp): each frame they heave, pitch and roll with the
+/// sea surface under them; their centre's z is then set by their draft, not by `center`.
 struct Box {
   Point3 center{};
   Point3 half_extent{1.0, 1.0, 1.0};  ///< m, each > 0
   double yaw_deg = 0.0;               ///< rotation about z
   LinearRgb colour{0.5f, 0.5f, 0.5f};
+  bool floats = false;
+  double density = 500.0;             ///< kg/m^3 in (0, sea_water_density): sets the draft of a floating box
 };
 
 struct Sphere {
   Point3 center{};
   double radius = 1.0;  ///< m > 0
   LinearRgb colour{0.5f, 0.5f, 0.5f};
+  bool floats = false;
+  double density = 500.0;  ///< kg/m^3 in (0, sea_water_density): sets the draft of a floating sphere
 };
 
 // ---- Waves ---------------------------------------------------------------------------------------
@@ -136,6 +146,25 @@ struct WaveTrain {
   double amplitude = 0.5;
   double phase = 0.0;                     ///< rad, added to the train's phase
   double steepness = 0.5;                 ///< Gerstner q in [0, 1] (0: sine profile)
+  /// The sea state this train is a component of (validate() adds them, sea_state.hpp); -1: written
+  /// as a train.
+  std::int32_t sea_state = -1;
+};
+
+/// A sea state: a JONSWAP spectrum (Pierson-Moskowitz with gamma = 1) with cos-2s directional
+/// spreading, expanded by validate() into `components` trains (sea_state.hpp: equal-energy
+/// frequency bins, stratified directions, phases from a fixed hash; the same on every machine).
+struct SeaState {
+  double significant_height = 1.0;  ///< m > 0, Hs = 4 sqrt(m0)
+  double peak_period = 8.0;         ///< s, Tp
+  double gamma = 3.3;               ///< JONSWAP peak enhancement in [1, 10]; 1: Pierson-Moskowitz
+  double direction_deg = 90.0;      ///< mean direction of travel
+  /// deg: directional spread sigma (the circular standard deviation, SWAN's DSPR) of the cos-2s
+  /// distribution, s = 2 / sigma^2 - 1 (sigma in rad); 0: long-crested (every component along the mean).
+  double spread_deg = 25.0;
+  std::uint32_t components = 32;    ///< trains it is expanded into
+  std::uint32_t seed = 0;           ///< another seed, other phases and pairings of directions with frequencies
+  double steepness = 0.5;           ///< Gerstner q of every component
 };
 
 /// Short-wave ripples (houle::CapillaryParams in the kernel).
@@ -158,10 +187,21 @@ struct Sky {
   double turbidity = 3.0;  ///< Preetham turbidity, in [1.7, 10]
 };
 
+/// Where a moving camera is at one time (docs/scenes.md, [[camera.keys]]).
+struct CameraKey {
+  double time = 0.0;  ///< s of scene time; keys in strictly increasing time
+  Point3 position{};
+  Point3 look_at{};
+  std::optional<double> vertical_fov_deg;  ///< in (0, 180); the [camera] one when not given
+};
+
 struct ViewCamera {
   Point3 position{100.0, -20.0, 6.0};
   Point3 look_at{100.0, 80.0, 0.0};
   double vertical_fov_deg = 50.0;  ///< in (0, 180)
+  /// Empty: the camera stands still at position. Else it follows these keys (camera_path.hpp) and
+  /// position and look_at are not used.
+  std::vector<CameraKey> keys;
 };
 
 struct Water {
@@ -241,6 +281,8 @@ namespace scene_limits {
 inline constexpr double max_domain_side = 4000.0;     ///< m, each side of the domain
 inline constexpr double max_coordinate = 100000.0;    ///< m, |bound| of the domain from the origin
 inline constexpr std::size_t max_trains = 16;
+inline constexpr std::size_t max_sea_states = 16;
+inline constexpr std::size_t max_components = 256;  ///< sea-state components, all sea states together
 inline constexpr std::size_t max_items = 1024;        ///< shoals, bars, channels, walls, boxes, spheres (each)
 inline constexpr std::size_t max_wall_points = 4096;  ///< per wall
 inline constexpr std::uint32_t max_rays = 1u << 20;    ///< dwt.max_rays (per train)
@@ -252,7 +294,8 @@ struct Scene {
   Domain domain{};
   SeaFloor floor{};
   std::vector<Wall> walls;
-  std::vector<WaveTrain> trains;
+  std::vector<WaveTrain> trains;  ///< written trains, then the sea states' components (validate())
+  std::vector<SeaState> sea_states;
   CapillaryNoise capillary{};
   std::vector<Box> boxes;
   std::vector<Sphere> spheres;
@@ -264,8 +307,9 @@ struct Scene {
   WaveModel wave_model{};
 };
 
-/// The scene unchanged if it is valid; otherwise the first problem, e.g.
-/// {"trains[1].period", "a finite value > 0 s, got -3"}.
+/// The scene if it is valid, with its sea states' components as trains after the written ones
+/// (sea_state_components; done again, a valid scene's validate() changes nothing); otherwise the
+/// first problem, e.g. {"trains[1].period", "a finite value > 0 s, got -3"}.
 Expected<Scene> validate(Scene scene);
 
 /// omega = 2 pi / T (rad/s) of a train, from its period or its deep-water wavelength; 0 if neither

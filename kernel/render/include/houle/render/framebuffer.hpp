@@ -9,13 +9,36 @@
 
 namespace houle {
 
-/// Interleaved linear RGB floats, row-major, top row first. Sized once; rendering never reallocates.
+/// Per-pixel channels beside the image (arbitrary output variables, for compositing), each asked
+/// for separately: one not asked for is an empty vector and costs the renderer nothing.
+struct FrameAovs {
+  bool depth = false, normal = false, alpha = false, sea = false;
+};
+
+/// Interleaved linear RGB floats, row-major, top row first, and the AOVs asked for, in the same
+/// pixel order. Sized once; rendering never reallocates.
 struct Framebuffer {
   int width = 0, height = 0;
   std::vector<float> rgb;  ///< width * height * 3
+  /// m along the camera's forward axis (not along the ray) to the first surface met (sea, object or
+  /// floor), the nearest of the pixel's samples; +inf where a sample meets none. width * height
+  std::vector<float> depth;
+  /// The first surface's unit world-space normal turned to face the camera, averaged over the
+  /// pixel's samples (0 for a sample that meets none). width * height * 3, interleaved x, y, z
+  std::vector<float> normal;
+  /// The share of the pixel's samples that meet something: 0 where the sky is seen; under water
+  /// every sample counts (the water is opaque). width * height
+  std::vector<float> alpha;
+  /// The share of the pixel's samples whose primary ray meets the sea surface (from above or below). width * height
+  std::vector<float> sea;
 
   Framebuffer() = default;
-  Framebuffer(int w, int h) : width(w), height(h), rgb(std::size_t(w) * std::size_t(h) * 3, 0.0f) {}
+  Framebuffer(int w, int h, FrameAovs aovs = {})
+      : width(w), height(h), rgb(std::size_t(w) * std::size_t(h) * 3, 0.0f),
+        depth(aovs.depth ? std::size_t(w) * std::size_t(h) : 0, 0.0f),
+        normal(aovs.normal ? std::size_t(w) * std::size_t(h) * 3 : 0, 0.0f),
+        alpha(aovs.alpha ? std::size_t(w) * std::size_t(h) : 0, 0.0f),
+        sea(aovs.sea ? std::size_t(w) * std::size_t(h) : 0, 0.0f) {}
 };
 
 /// Tightly packed output formats. 8-bit ones are display-referred sRGB (tone-mapped, encoded);

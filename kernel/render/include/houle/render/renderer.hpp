@@ -56,17 +56,29 @@ namespace houle {
 
 /// A box oriented about z: its local axes are the world's x and y turned by yaw_rad (counter-clockwise
 /// seen from above) and z.
+/// `motion` > 0 makes it a moving box (Renderer::move_box): its centre stays within `motion` of
+/// `center` on each axis, in any orientation.
 struct RenderBox {
   std::array<float, 3> center{};       ///< m
   std::array<float, 3> half_extent{};  ///< m, each > 0, along the local axes
   float yaw_rad = 0.0f;
   LinearRgb colour{0.5f, 0.5f, 0.5f};  ///< diffuse reflectance k_d C, each channel in [0, 1]
+  float motion = 0.0f;                 ///< m >= 0; 0: it never moves
 };
 
+/// `motion` > 0 makes it a moving sphere (Renderer::move_sphere), as for a box.
 struct RenderSphere {
   std::array<float, 3> center{};  ///< m
   float radius = 1.0f;            ///< m, > 0
   LinearRgb colour{0.5f, 0.5f, 0.5f};  ///< diffuse reflectance, each channel in [0, 1]
+  float motion = 0.0f;            ///< m >= 0; 0: it never moves
+};
+
+/// Where a moving box is in a frame: its centre and its local axes in world coordinates (unit and
+/// orthogonal; a box at rest has x and y turned by its yaw, and z up).
+struct BoxPose {
+  std::array<float, 3> center{};
+  std::array<std::array<float, 3>, 3> axes{{{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}}};
 };
 
 /// The sea floor and land as a height grid built once per scene: z (m) of the ground, negative under
@@ -153,6 +165,13 @@ class Renderer {
   /// `noise_params`, or with noise->params when that is null. No heap allocation; deterministic.
   void render(const SurfaceFrame& surface, const CapillaryFrame* noise, const CapillaryParams* noise_params,
               const Camera& camera, Framebuffer& out, RenderView view = RenderView::shaded) noexcept;
+
+  /// Places moving box `box` (an index into RenderScene::boxes, with motion > 0) or moving sphere
+  /// `sphere` for the next render(): its centre is clamped to within its motion of where the scene
+  /// put it. The primary hits kept for a still camera are not used where a ray meets a moving object
+  /// now or met it when they were kept, so a frame is the one a fresh renderer gives. No allocation.
+  void move_box(std::size_t box, const BoxPose& pose) noexcept;
+  void move_sphere(std::size_t sphere, const std::array<float, 3>& center) noexcept;
 
   /// SurfaceFrame::fill on this renderer's threads (the per-frame retessellation shares them with
   /// render()): `sampler` must allow concurrent calls. The frame is the same as fill() gives.

@@ -139,8 +139,14 @@ class SurfaceFrame {
   /// it): begin_fill(), then fill_part(sampler, context, p, parts) once for every p in [0, parts) from
   /// any threads, then finish_frame(). Every node is computed alike: the frame does not depend on parts.
   static constexpr unsigned max_fill_parts = 8;
-  void begin_fill() noexcept { morphed_ = false; }
+  void begin_fill() noexcept { morphed_ = bounded_ = false; }
   void fill_part(SurfaceSampler sampler, void* context, unsigned part, unsigned parts) noexcept;
+  /// finish_frame()'s morph and its tiles' own bounds in `parts` pieces that may run concurrently, after
+  /// every fill_part: morph_part(p, parts) for every p, then bound_part(p, parts) for every p, then
+  /// finish_frame(), which is left the merging of nested bounds and the global ones. The frame does not
+  /// depend on parts.
+  void morph_part(unsigned part, unsigned parts) noexcept;
+  void bound_part(unsigned part, unsigned parts) noexcept;
   /// Morphs the band nodes (once per fill) and computes tile bounds, global bounds and the slab.
   void finish_frame() noexcept;
 
@@ -170,8 +176,11 @@ class SurfaceFrame {
     HOULE_ASSERT(l < config_.levels, "SurfaceFrame: the node arrays of a level of the config");
     return l * level_floats_;
   }
-  void morph_level(std::uint32_t l) noexcept;
-  void finish_level(std::uint32_t l) noexcept;
+  void morph_row(std::uint32_t l, std::uint32_t j) noexcept;
+  /// Tile row tj of level l's own bounds, with part `part`'s column scratch.
+  void bound_tile_row(std::uint32_t l, std::uint32_t tj, unsigned part) noexcept;
+  /// Widens level l's tiles by the finer level's tiles inside its inner square (final ones: levels in order).
+  void merge_finer(std::uint32_t l) noexcept;
   void finish_global() noexcept;
 
   SurfaceFrameConfig config_{};
@@ -188,12 +197,13 @@ class SurfaceFrame {
   std::uint8_t* needed_ = nullptr;  ///< per tile: filled this frame
   float* row_x_ = nullptr;  ///< fill scratch: per part, node x coordinates of a row
   float* row_y_ = nullptr;  ///< fill scratch: per part, the row's y repeated
-  float* scratch_ = nullptr;  ///< bounds pass: column statistics and partner rows
+  float* scratch_ = nullptr;  ///< bounds pass: per part, column statistics
   std::array<SurfaceLevel, max_levels> levels_{};
   float centre_x_ = 0.0f, centre_y_ = 0.0f;
   TileBounds global_{};
   float noise_height_ = 0.0f, noise_slope_ = 0.0f;
   bool morphed_ = false;  ///< the band nodes hold their morphed values (finish once per fill)
+  bool bounded_ = false;  ///< the tiles' own bounds are those of the morphed nodes (bound_part ran)
 };
 
 /// Fills `frame` (after begin_frame) from analytic Gerstner trains with the dispatched

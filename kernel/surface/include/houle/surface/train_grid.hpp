@@ -47,7 +47,8 @@ struct TrainGrid {
 
 /// The trains at one time: `count` trains and their time phases.
 struct TrainGridFrame {
-  static constexpr std::size_t max_trains = 32;
+  /// A scene's 16 written trains and 256 sea-state components (sim's scene_limits).
+  static constexpr std::size_t max_trains = 272;
   std::uint32_t count = 0;
   const TrainGrid* trains = nullptr;
   float time_phase[max_trains] = {};  ///< (omega t - phase) mod 2 pi, reduced in double
