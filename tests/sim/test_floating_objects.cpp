@@ -143,7 +143,7 @@ TEST(FloatingObjects, AFrameAloneIsThatFrameOfASequence) {
   // A buoy and a raft in front of the camera: each frame of a sequence has the bytes of the same frame
   // rendered by a fresh Animation, and the buoy moves (the frames are not those of a still buoy).
   houle::Scene s = swell();
-  s.camera = {{100.0, 60.0, 3.0}, {100.0, 100.0, 0.0}, 40.0};
+  s.camera = {{100.0, 60.0, 3.0}, {100.0, 100.0, 0.0}, 40.0, {}};
   houle::Sphere buoy;
   buoy.center = {98.0, 80.0, 0.0};
   buoy.radius = 1.0;
