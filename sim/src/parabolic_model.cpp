@@ -88,11 +88,14 @@ Grid make_grid(const Scene& scene, const Bathymetry& floor, const ParabolicTrain
   size();
   const double nodes = double(g.rows_bound) * double(g.columns);
   if (nodes > double(max_parabolic_nodes)) {
-    // Coarser in both directions alike; the resolved wavelength says what is left.
+    // Coarser in both directions alike, the steps to a quarter wavelength at most (beyond it the
+    // propagator's error grows fast) and the rest across the rows; the resolved wavelength says what
+    // is left.
     const double scale = std::sqrt(nodes / double(max_parabolic_nodes)) * 1.001;
-    g.dn *= scale;
-    g.sigma *= scale;
-    g.resolved_wavelength *= scale;
+    const double step_scale = std::min(scale, (pi / 2.0) / g.sigma);
+    g.sigma *= step_scale;
+    g.dn *= scale * scale / step_scale;
+    g.resolved_wavelength = g.dn * wm.points_per_wavelength;
     size();
   }
   g.n0 = n_lo - pad;

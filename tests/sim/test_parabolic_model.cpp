@@ -127,3 +127,36 @@ TEST(ParabolicModel, PlaneBeachFollowsSnellAndShoaling) {
 }
 
 }  // namespace
+
+// The largest domain validate accepts, with short waves over a shoal: the march stays within its node
+// budget (coarser, and saying so: the resolved wavelength grows), and its field is finite.
+TEST(ParabolicModel, AHugeDomainStaysWithinItsNodeBudget) {
+  houle::Scene s;
+  s.domain = {0.0, 0.0, 4000.0, 4000.0};
+  s.floor.base.depth = 15.0;
+  s.floor.shoals.push_back(houle::Shoal{{2000.0, 2000.0}, 300.0, 200.0, 30.0, 10.0});
+  houle::WaveTrain t;
+  t.direction_deg = 75.0;
+  t.period = 4.0;
+  t.amplitude = 0.3;
+  s.trains = {t};
+  const houle::Bathymetry floor(s.floor);
+  const houle::detail::ParabolicTrain pt = houle::detail::parabolic_train(s, floor, 0);
+  const std::uint64_t nodes = houle::detail::parabolic_nodes(s, floor, pt);
+  EXPECT_LE(nodes, houle::detail::max_parabolic_nodes);
+  const auto f = houle::detail::march_parabolic(s, floor, pt);
+  ASSERT_TRUE(f.ok());
+  EXPECT_LE(std::uint64_t(f->rows()) * f->columns, nodes);
+  // Coarsened: at full resolution it would be the wavelength over the shoal's top, 5 m deep.
+  EXPECT_GT(f->resolved_wavelength, 2.0 * houle_test::pi / houle::linear_wave(houle::train_omega(t), 5.0).k);
+  bool finite = true;
+  double largest = 0.0;
+  for (const std::complex<float>& v : f->eta) {
+    finite = finite && std::isfinite(v.real()) && std::isfinite(v.imag());
+    largest = std::max(largest, double(std::abs(v)));
+  }
+  EXPECT_TRUE(finite);
+  EXPECT_LT(largest, 0.5 * s.dwt.breaker_index * 15.0);
+  std::printf("4 km domain, 4 s waves: %zu x %u march nodes (budget %llu), wavelengths down to %.2f m resolved\n",
+              f->rows(), f->columns, static_cast<unsigned long long>(houle::detail::max_parabolic_nodes), f->resolved_wavelength);
+}
