@@ -71,7 +71,7 @@ TEST(AmplitudeDispersion, MeetsItsLimits) {
       EXPECT_LE(k, k_lin) << "h " << h << " a " << a;
       EXPECT_GT(k, 0.5 * k_lin);
       if (h == 300.0) {
-        EXPECT_NEAR(houle::gravity * k * (1.0 + k * a * k * a) / (omega * omega), 1.0, 1e-12);
+        EXPECT_NEAR(houle::gravity * k * (1.0 + k * a * k * a) / (omega * omega), 1.0, 3e-9);  // k to 1e-9
       }
       if (h == 0.3) {
         // The composite's f2 = (kh / sinh kh)^4 is 1 - O((kh)^2), not quite Hedges' 1.

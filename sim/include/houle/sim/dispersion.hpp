@@ -58,7 +58,8 @@ LinearWave linear_wave(double omega, double depth, double kh_guess) noexcept;
 ///   D = (cosh 4kh + 8 - 2 tanh^2 kh) / (8 sinh^4 kh):
 /// Stokes' third order in deep and intermediate water (omega^2 = g k (1 + (kA)^2) in deep water),
 /// Hedges' tanh k(h + A) in shallow water. `k_linear` is the linear root at that depth (the start of
-/// the iteration); the result lies in (0, k_linear], k_linear for amplitude <= 0. 0 on land.
+/// the iteration); the result, to 1e-9 relative, lies in (0, k_linear], k_linear for amplitude <= 0.
+/// 0 on land.
 double amplitude_dispersion_k(double omega, double depth, double amplitude, double k_linear) noexcept;
 
 /// Deep-water wavenumber k0 = omega^2 / g, rad/m.
