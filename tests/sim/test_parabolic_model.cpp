@@ -68,9 +68,8 @@ TEST(ParabolicModel, BerkhoffShoalWithinTheMeasurements) {
 
 // A plane beach (contours along x, depth 2-10 m over the domain), a train 30 deg off the shore's
 // normal: linear theory's Snell (sin a / C conserved) and shoaling with refraction (A = A0 Ks Kr),
-// within 1 % (measured 0.95 % and 0.44 %: the march's rows cross the contours obliquely, and what it
-// then neglects leaves a ripple of about 1 % in the phase, docs/physics.md 10.4). Amplitude dispersion
-// is off: the oracle is linear.
+// within 1 % (measured 0.69 % and 0.35 %: docs/physics.md 10.4). Amplitude dispersion is off: the
+// oracle is linear.
 TEST(ParabolicModel, PlaneBeachFollowsSnellAndShoaling) {
   houle::Scene s = houle_test::beach_scene(60.0, 0.4);
   s.trains[0].steepness = 0.0;
