@@ -10,6 +10,7 @@
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene_keys.hpp"
+#include "houle/sim/wave_rays.hpp"
 #include "clip_line.hpp"
 
 namespace houle {
@@ -139,9 +140,10 @@ Expected<void> check_trains(const std::vector<WaveTrain>& trains) {
 
 Expected<void> check_camera(const Scene& s) {
   const ViewCamera& cam = s.camera;
-  if (cam.position.x == cam.look_at.x && cam.position.y == cam.look_at.y && cam.position.z == cam.look_at.z) {
-    return Error{"camera.look_at", "a point different from camera.position"};
-  }
+  // The renderer holds both as floats: closer than a centimetre the view direction is lost.
+  const double apart = std::hypot(cam.look_at.x - cam.position.x, cam.look_at.y - cam.position.y,
+                                  cam.look_at.z - cam.position.z);
+  if (!(apart >= 0.01)) return bad("camera.look_at", "a point at least 0.01 m from camera.position", apart);
   const double floor_z = -Bathymetry(s.floor).depth(cam.position.x, cam.position.y);
   if (cam.position.z < floor_z) {
     return bad("camera.position.z", "a height above the sea floor there (z = " + num(floor_z) + " m)", cam.position.z);
@@ -149,10 +151,30 @@ Expected<void> check_camera(const Scene& s) {
   return {};
 }
 
-Expected<void> check_dwt(const DwtSettings& d) {
+// Crapper's limit of a capillary wave's steepness, H/L = 0.73, for the coarsest octave.
+Expected<void> check_capillary(const CapillaryNoise& c) {
+  if (c.amplitude > 0.365 * c.base_wavelength) {
+    return bad("capillary.amplitude", "at most 0.365 base_wavelength = " + num(0.365 * c.base_wavelength) +
+                                          " m (Crapper's limit of a capillary wave's steepness, H/L = 0.73)", c.amplitude);
+  }
+  return {};
+}
+
+Expected<void> check_dwt(const Scene& s) {
+  const DwtSettings& d = s.dwt;
   if (d.initial_rays == 1) return bad("dwt.initial_rays", "0 (automatic) or at least 2", 1.0);
-  if (d.max_rays < d.initial_rays) {
-    return bad("dwt.max_rays", "at least initial_rays = " + std::to_string(d.initial_rays), d.max_rays);
+  if (d.initial_rays > d.max_rays) {
+    return bad("dwt.initial_rays", "at most dwt.max_rays = " + std::to_string(d.max_rays), d.initial_rays);
+  }
+  if (d.initial_rays > 0) return {};
+  for (std::size_t i = 0; i < s.trains.size(); ++i) {
+    const FrontSize f = front_size(s, i, d);
+    if (f.rays <= d.max_rays) continue;
+    return bad("dwt.insertion_distance",
+               "at least " + num(f.width / d.max_rays) + " m: trains[" + std::to_string(i) + "]'s front is " +
+                   num(f.width) + " m wide, and a ray every insertion distance would exceed dwt.max_rays = " +
+                   std::to_string(d.max_rays),
+               d.insertion_distance);
   }
   return {};
 }
@@ -191,7 +213,8 @@ Expected<Scene> validate(Scene scene) {
   if (auto e = check_walls(scene.walls, scene.domain); !e) return e.error();
   if (auto e = check_trains(scene.trains); !e) return e.error();
   if (auto e = check_camera(scene); !e) return e.error();
-  if (auto e = check_dwt(scene.dwt); !e) return e.error();
+  if (auto e = check_capillary(scene.capillary); !e) return e.error();
+  if (auto e = check_dwt(scene); !e) return e.error();
   return scene;
 }
 

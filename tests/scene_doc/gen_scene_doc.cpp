@@ -7,7 +7,7 @@
 #include <type_traits>
 #include <variant>
 
-#include "height_map_image.hpp"  // max_height_map_pixels
+#include "height_map_image.hpp"  // max_height_map_side
 #include "houle/sim/scene_keys.hpp"
 #include "scene_file.hpp"        // max_scene_file_bytes
 
@@ -99,7 +99,7 @@ void print_section(const keys::Section<S>& section) {
 
 void print_limits() {
   namespace lim = scene_limits;
-  const auto map_side = std::to_string(std::lround(std::sqrt(double(cli::max_height_map_pixels))));
+  const auto map_side = std::to_string(cli::max_height_map_side);
   std::cout << R"md(
 ## Limits
 
@@ -136,7 +136,10 @@ takes the default below. Unknown keys, wrong types and out-of-range values are e
 `file:line:column: error: field: what was expected` (`houle validate SCENE`). Every number must be finite,
 and lie in its range (for a point, each coordinate). Frame: x east, y north, z up, metres; still water
 at z = 0; depth is positive below it (depth <= 0 is land). Angles in the horizontal plane are degrees
-counter-clockwise from +x (a train with `direction_deg = 90` travels north). Files over )md"
+counter-clockwise from +x (a train with `direction_deg = 90` travels north). Ranges hold what houle
+can compute and show: positions within )md" << num(scene_limits::max_coordinate / 1000.0) << R"md( km of the origin (the renderer's 32-bit floats still hold
+a centimetre there), angles within a turn either way, heights and depths within 11 km (the deepest
+sea). Files over )md"
             << (cli::max_scene_file_bytes >> 20) << R"md( MiB are refused
 (height maps belong in image files).
 
