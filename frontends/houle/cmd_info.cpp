@@ -9,6 +9,7 @@
 
 #include "cli.hpp"
 #include "commands.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/effect_plan.hpp"
 #include "houle/sim/scene_geometry.hpp"
 #include "houle/sim/sea_surface.hpp"
@@ -121,6 +122,11 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
   const unsigned threads = run->threads;
   const Quality q = quality_preset(quality);
   const EffectPlan plan = plan_effects(s, q);
+  const BuildCost cost = estimate_build_cost(s, q, 0, threads);
+  if (const Expected<void> fits = check_build_cost(cost, "at this quality"); !fits) {
+    std::fprintf(stderr, "houle info: %s: %s: %s\n", run->name.c_str(), fits.error().field.c_str(), fits.error().message.c_str());
+    return 2;
+  }
   std::vector<std::string> warnings = scene_warnings(s);
 
   const auto t0 = std::chrono::steady_clock::now();
@@ -195,6 +201,8 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
     std::printf(" \"sea_diffraction\": {\"pierheads\": %zu, \"evaluations\": %llu},\n", dw.pierheads,
                 static_cast<unsigned long long>(dw.evaluations));
     std::printf(" \"memory_bytes\": {\"rays\": %zu, \"sea_grid\": %zu},\n", rays_memory, sea_memory);
+    std::printf(" \"estimate\": {\"peak_bytes\": %llu, \"cpu_seconds\": %.6g, \"samples\": %llu},\n",
+                (unsigned long long)cost.bytes(), cost.seconds(), (unsigned long long)cost.samples);
     std::printf(" \"build_ms\": {\"trace\": %.3f, \"sea_surface\": %.3f, \"total\": %.3f}}\n", trace_ms, sea_ms,
                 trace_ms + sea_ms);
     return 0;
@@ -241,6 +249,8 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
   std::printf("diffracted waves (sea surface): %zu (pierheads x trains), computed at %llu grid nodes in all\n",
               dw.pierheads, static_cast<unsigned long long>(dw.evaluations));
   std::printf("memory: rays %.2f MiB, sea grids %.2f MiB\n", double(rays_memory) / 1048576.0, double(sea_memory) / 1048576.0);
+  std::printf("estimated before the build (a render adds its image and floor): %.0f MiB at the peak, %.1f s of CPU, %llu samples\n",
+              double(cost.bytes()) / 1048576.0, cost.seconds(), (unsigned long long)cost.samples);
   std::printf("build time: %.2f ms (tracing %.2f ms, resampling %.2f ms, %u threads)\n", trace_ms + sea_ms, trace_ms, sea_ms,
               threads);
   return 0;

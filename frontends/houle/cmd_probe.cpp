@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "houle/sim/animation.hpp"
 #include "houle/sim/bathymetry.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/scene_geometry.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "scene_source.hpp"
@@ -154,11 +155,19 @@ the values the surface evaluates everywhere, with `where` beside them.)");
       return 2;
     }
   }
-  const float sea_cell = Quality{}.sea_cell;  // the realtime quality's resampling grid
-  if (const Expected<void> fits = check_build_memory(*scene, sea_cell, 0); !fits) {
-    std::fprintf(stderr, "houle probe: %s: %s: %s\n", scene_name(positionals).c_str(), fits.error().field.c_str(),
-                 fits.error().message.c_str());
-    return 2;
+  // The realtime quality's resampling grid, or the draft's where that would not fit (validate made
+  // sure the draft's does).
+  float sea_cell = Quality{}.sea_cell;
+  if (const Expected<void> fits = check_build_cost(estimate_build_cost(*scene, Quality{}, 0, 2), "on 0.5 m cells"); !fits) {
+    const Quality draft = quality_preset(QualityPreset::draft);
+    if (const Expected<void> coarse = check_build_cost(estimate_build_cost(*scene, draft, 0, 2), "on 1 m cells"); !coarse) {
+      std::fprintf(stderr, "houle probe: %s: %s: %s\n", scene_name(positionals).c_str(), coarse.error().field.c_str(),
+                   coarse.error().message.c_str());
+      return 2;
+    }
+    sea_cell = draft.sea_cell;
+    std::fprintf(stderr, "houle probe: %s: note: the sea is resampled on %g m cells: %s\n", scene_name(positionals).c_str(),
+                 double(sea_cell), fits.error().message.c_str());
   }
   Expected<WaveField> field = trace_wave_field(*scene, 2);
   if (!field) {

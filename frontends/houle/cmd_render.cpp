@@ -15,6 +15,7 @@
 #include "frame_files.hpp"
 #include "frame_writer.hpp"
 #include "houle/sim/animation.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "render_options.hpp"
 #include "scene_source.hpp"
 
@@ -122,6 +123,15 @@ int cmd_render(std::span<char* const> argv) {
   std::optional<Scene> scene = scene_from_args(positionals, "render");
   if (!scene) return 2;
 
+  if (o.verbose) {
+    const BuildCost cost = estimate_build_cost(*scene, quality_preset(o.quality), std::uint64_t(o.width) * o.height, o.threads);
+    const auto mib = [](std::uint64_t b) { return double(b) / 1048576.0; };
+    std::fprintf(stderr,
+                 "houle render: estimated build: %.0f MiB at the peak (rays %.0f, sea grids %.0f, floor %.0f, image %.0f, "
+                 "program %.0f), %.1f s of CPU (tracing %.1f, sea grids %.1f, floor %.1f), %llu samples\n",
+                 mib(cost.bytes()), mib(cost.rays), mib(cost.sea), mib(cost.floor), mib(cost.image), mib(cost.program),
+                 cost.seconds(), cost.trace_s, cost.sea_s, cost.floor_s, (unsigned long long)cost.samples);
+  }
   Expected<Animation> anim = Animation::create(*scene, quality_preset(o.quality), std::uint32_t(o.width),
                                                std::uint32_t(o.height), o.threads);
   if (!anim) {

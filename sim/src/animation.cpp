@@ -1,4 +1,5 @@
 #include "houle/sim/animation.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/effect_plan.hpp"
 
 #include <algorithm>
@@ -17,35 +18,7 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 constexpr std::array<std::string_view, 3> quality_names = {"draft", "realtime", "film"};
 
-std::uint64_t grid_nodes(const Domain& d, double cell) {
-  return std::uint64_t(std::ceil((d.x_max - d.x_min) / cell) + 1.0) * std::uint64_t(std::ceil((d.y_max - d.y_min) / cell) + 1.0);
-}
-std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
-
 }  // namespace
-
-// Per traced sample: the tracer's store (9 doubles, flags, ray index) and the output rays (7 doubles,
-// flags) exist together at the end of a trace. Per sea grid node: phi, amplitude, kx, ky. The floor
-// grid has one float per metre (render_scene.cpp). Per pixel: the renderer's and the caller's buffers,
-// and the primary hits the renderer keeps (counted at up to 8 samples, capped as the renderer caps them).
-Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t pixels) {
-  constexpr std::uint64_t per_sample = 9 * 8 + 1 + 4 + 7 * 8 + 1, per_node = 4 * 4, per_pixel = 64;
-  std::uint64_t rays = 0, sea = 0;
-  for (std::size_t t = 0; t < s.trains.size(); ++t) {
-    if (s.dwt.analytic_shortcut && !train_needs_rays(s, t)) continue;
-    rays += std::uint64_t(dwt_bound(s, t, s.dwt).samples) * per_sample;
-    sea += grid_nodes(s.domain, sea_cell) * per_node;
-  }
-  const std::uint64_t kept = std::min<std::uint64_t>(pixels * 8 * Renderer::kept_hit_bytes, Renderer::max_kept_bytes);
-  const std::uint64_t floor = grid_nodes(s.domain, 1.0) * 4, image = pixels * per_pixel + kept;
-  const std::uint64_t total = rays + sea + floor + image;
-  if (total <= scene_limits::max_animation_bytes) return {};
-  return Error{"scene", "needs an estimated " + mib(total) + " at this quality and size (wave rays " + mib(rays) +
-                            ", sea grids " + mib(sea) + ", floor " + mib(floor) + ", image " + mib(image) +
-                            "), over the limit of " + mib(scene_limits::max_animation_bytes) +
-                            ": expected a smaller domain or image, fewer traced trains, a lower dwt.max_samples "
-                            "or a coarser quality"};
-}
 
 std::string_view quality_name(QualityPreset q) noexcept {
   HOULE_ASSERT(std::size_t(q) < quality_names.size(), "quality_name: one of the QualityPreset values");
@@ -95,7 +68,11 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   Expected<Scene> scene = validate(scene_in);
   if (!scene) return scene.error();
   const Scene& s = scene.value();
-  if (Expected<void> fits = check_build_memory(s, quality.sea_cell, std::uint64_t(width) * height); !fits) return fits.error();
+  if (Expected<void> fits = check_build_cost(estimate_build_cost(s, quality, std::uint64_t(width) * height, threads),
+                                             "at this quality and size");
+      !fits) {
+    return fits.error();
+  }
 
   CameraParams cp;
   cp.position = {float(s.camera.position.x), float(s.camera.position.y), float(s.camera.position.z)};

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "houle/sim/bathymetry.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene_keys.hpp"
 #include "houle/sim/wave_rays.hpp"
@@ -215,6 +216,9 @@ Expected<Scene> validate(Scene scene) {
   if (auto e = check_camera(scene); !e) return e.error();
   if (auto e = check_capillary(scene.capillary); !e) return e.error();
   if (auto e = check_dwt(scene); !e) return e.error();
+  // Whatever validates builds: at the cheapest quality, at least (build_cost.hpp).
+  const BuildCost draft = estimate_build_cost(scene, quality_preset(QualityPreset::draft), 0, 1);
+  if (auto e = check_build_cost(draft, "at the draft quality"); !e) return e.error();
   return scene;
 }
 

@@ -188,7 +188,7 @@ namespace houle {
 FrontSize front_size(const Scene& scene, std::size_t train, const DwtSettings& settings) noexcept {
   const Point2 dir = train_direction(scene.trains[train]);
   const detail::FrontSpan s = detail::front_span(scene.domain, dir.x, dir.y, settings);
-  return {s.width, s.a_max - s.a_min, s.rays};
+  return {s.width, s.a_max - s.a_min, s.rays, {s.a_min * dir.x - s.c_lo * dir.y, s.a_min * dir.y + s.c_lo * dir.x}};
 }
 
 }  // namespace houle

@@ -153,21 +153,23 @@ for cmd in "probe --at 50,80" "render --frames 0:0 --size 32x18 --out $work/capp
   expect "cap-warn-${cmd%% *}" 0 "houle ${cmd%% *}: .*capped-warn.toml: warning: the wave rays reached a cap" "$houle" $cmd "$f"
 done
 expect cap-warn-info 0 '^warning: the wave rays reached a cap' "$houle" info "$f"
-# Valid, but 16 traced trains over 4 km at film quality would need tens of GiB.
-f=$(scene huge-build "[domain]
+# Valid (its draft build fits), but a traced train over 4 km at film quality would need tens of GiB:
+# refused before the build. Sixteen of them fit no quality: validate refuses them.
+huge() { scene "$1" "[domain]
 x_max = 4000.0
 y_max = 4000.0
 [floor.base]
 kind = \"planar_beach\"
 depth = 30.0
 shoreline = [0.0, 4000.0]
-$(for i in $(seq 16); do printf '[[trains]]\nperiod = 8.0\n'; done)
+$(for i in $(seq "$2"); do printf '[[trains]]\nperiod = 8.0\n'; done)
 [camera]
 position = [2000.0, -20.0, 6.0]
-look_at = [2000.0, 80.0, 0.0]")
-expect limit-memory 2 'huge-build.toml: scene: needs an estimated [0-9]+ MiB .*over the limit of 4096 MiB' "$houle" render "$f" --quality film --frames 1 --raw "$work/never.rgb"
+look_at = [2000.0, 80.0, 0.0]"; }
+f=$(huge huge-build 1)
+expect limit-memory 2 'huge-build.toml: scene: needs an estimated [0-9]+ MiB at this quality and size .*over the limit of 4096 MiB' "$houle" render "$f" --quality film --frames 1 --raw "$work/never.rgb"
 [ -e "$work/never.rgb" ] && { fail=$((fail + 1)); echo "FAIL limit-memory: opened the output"; }
-expect limit-memory-probe 2 'huge-build.toml: scene: needs an estimated' "$houle" probe "$f" --at 10,10
+expect limit-memory-validate 2 'huge-16.toml:1:1: error: scene: needs an estimated [0-9]+ MiB at the draft quality' "$houle" validate "$(huge huge-16 16)"
 expect limit-size 2 'size expects WxH with each in 1..16384 and at most 64 Mpixels' "$houle" render --size 16384x16384 --frames 1 --raw "$work/never.rgb"
 expect limit-size-bench 2 'size expects WxH with each in 1..16384 and at most 64 Mpixels' "$houle" bench --size 10000x10000
 expect limit-frames 2 'frames expects .*at most 10000000 frames' "$houle" render --frames 0:99999999999 --raw "$work/never.rgb"
@@ -220,6 +222,17 @@ expect pattern-wide 0 '1 frames written' "$houle" render --frames 0:0 --size 32x
 [ -e "$work/wide/$(printf '%037d' 0).png" ] && pass=$((pass + 1)) || { fail=$((fail + 1)); echo "FAIL pattern-wide: no frame file"; }
 expect pattern-too-wide 2 "%0300d.png: the frame number's width makes a file name of 304 bytes, over the 255" "$houle" render --frames 0:0 --out "$work/%0300d.png"
 expect pattern-absurd 2 "%0999999999d.png: the frame number's width makes a file name longer than 255 bytes" "$houle" render --frames 0:0 --out "$work/%0999999999d.png"
+
+# The scene fuzzer's finds (tests/robust/scene_regressions): each is refused by validate with its
+# place, or renders and probes.
+for f in "$src"/tests/robust/scene_regressions/*.toml; do
+  if "$houle" validate "$f" >/dev/null 2>&1; then
+    expect "regression-render $(basename "$f")" 0 '1 frames written' "$houle" render "$f" --frames 0:0 --size 48x27 --quality draft --raw "$work/regression.rgb"
+    expect "regression-probe $(basename "$f")" 0 '^\(0, 0\) t=0 s: ' "$houle" probe "$f" --at 0,0
+  else
+    expect "regression-refused $(basename "$f")" 2 "$(basename "$f"):[0-9]+:[0-9]+: error: " "$houle" validate "$f"
+  fi
+done
 
 f=$(scene bad-enum '[floor.base]
 kind = "sloped"')

@@ -256,9 +256,10 @@ TEST(HardCases, VeryLongAndVeryShortWavesForTheDepth) {
     const char* what;
     double period, depth, amplitude;
   };
-  // kh = 0.07 (40 s swell over 3 m: shallow, breaking-limited) and kh = 1900 (0.4 s chop over 30 m, a
-  // wavelength of 0.25 m, below the sea grid's 0.5 m cell and the rays' 0.4 m step).
-  for (const Case& c : {Case{"40 s swell over 3 m", 40.0, 3.0, 1.5}, Case{"0.4 s chop over 30 m", 0.4, 30.0, 0.01}}) {
+  // kh = 0.07 (40 s swell over 3 m: shallow, breaking-limited) and kh = 120 (1 s chop over 30 m, the
+  // shortest period a train may have: a wavelength of 1.56 m, three of the sea grid's 0.5 m cells and
+  // four of the rays' 0.4 m steps).
+  for (const Case& c : {Case{"40 s swell over 3 m", 40.0, 3.0, 1.5}, Case{"1 s chop over 30 m", 1.0, 30.0, 0.01}}) {
     houle::Scene scene = houle::builtin_coast();
     scene.trains.resize(1);
     scene.trains[0].period = c.period;

@@ -8,6 +8,7 @@
 #include <variant>
 
 #include "height_map_image.hpp"  // max_height_map_side
+#include "houle/sim/build_cost.hpp"  // max_build_seconds
 #include "houle/sim/scene_keys.hpp"
 #include "scene_file.hpp"        // max_scene_file_bytes
 
@@ -118,9 +119,13 @@ the message names the file (and line when a key is at fault) and what was expect
             << lim::max_items << " each; at most " << lim::max_wall_points << " points per wall | `validate` |\n"
             << "| `dwt.max_rays`, `dwt.max_samples` | at most " << lim::max_rays << " and " << lim::max_samples
             << " per train | `validate` |\n"
-            << "| estimated memory of the scene build at the chosen quality and image size (traced rays at their "
-               "caps, the sea's resampling grids, the floor grid, image buffers) | "
-            << (lim::max_animation_bytes >> 30) << R"md( GiB | `render`, `bench`, `probe` |
+            << "| estimated peak memory of the scene build (traced rays, the sea's resampling grids and their "
+               "scratch, the floor grid, the walls' blocks, image buffers; sim/src/build_cost.cpp) | "
+            << (lim::max_animation_bytes >> 30)
+            << " GiB | `validate` at the draft quality; `render`, `bench`, `info` at theirs, `probe` on 0.5 m cells or "
+               "else 1 m |\n"
+            << "| estimated CPU time of the scene build (one core of the development machine) | " << num(houle::max_build_seconds)
+            << R"md( s | `validate` at the draft quality; `render`, `bench`, `info` at theirs |
 | image size (`--size`) | each side 1..16384, at most 64 Mpixels | `render`, `bench` |
 | frames (`--frames`) | at most 10 000 000 per run, numbered below 2^31 | `render` |
 )md";

@@ -36,11 +36,6 @@ Quality quality_preset(QualityPreset q) noexcept;
 /// sun, sky and water.
 RenderScene make_render_scene(const Scene& scene);
 
-/// The worst-case memory of building `scene` (traced rays at their caps, the sea's grids at `sea_cell`,
-/// the floor grid, `pixels` of image buffers) if it is over scene_limits::max_animation_bytes: an
-/// error saying what was expected. Animation::create checks it first; so should anything that traces.
-Expected<void> check_build_memory(const Scene& scene, float sea_cell, std::uint64_t pixels);
-
 /// Per-stage times of the last frame, ms.
 struct AnimationTimes {
   double surface_ms = 0.0;  ///< per-frame retessellation: the sea's grids at time t

@@ -203,10 +203,13 @@ struct DwtBound {
 DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& settings) noexcept;
 
 /// A train's front as the tracer starts it: its width across the direction of travel (m, after
-/// dwt.front_width), the domain's extent along that direction (m) and the initial rays.
+/// dwt.front_width), the domain's extent along that direction (m) and the initial rays; ray i enters
+/// on the line through `start` along the direction of travel, `start` + (i + 0.5) width / rays metres
+/// to its left (left: (-dy, dx)).
 struct FrontSize {
   double width = 0.0, length = 0.0;
   std::size_t rays = 0;
+  Point2 start{};
 };
 FrontSize front_size(const Scene& scene, std::size_t train, const DwtSettings& settings) noexcept;
 
