@@ -148,7 +148,12 @@ int cmd_render(std::span<char* const> argv) {
     return 2;
   }
   const bool progress = !o.quiet, live = progress && ::isatty(2);  // live: one line redrawn with \r
-  if (o.verbose) std::fprintf(stderr, "houle render: scene built in %.1f ms\n", anim->build_ms());
+  if (o.verbose) {
+    const BuildCost& c = anim->build_cost();
+    std::fprintf(stderr, "houle render: estimated once traced: %.0f MiB at the peak, %.1f s of CPU after the trace, %llu samples\n",
+                 double(c.bytes()) / 1048576.0, c.seconds(), (unsigned long long)c.samples);
+    std::fprintf(stderr, "houle render: scene built in %.1f ms\n", anim->build_ms());
+  }
 
   // From here on a stop ends the run after a complete frame (and a --raw file written whole is removed).
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_stop_signal);

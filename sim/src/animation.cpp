@@ -88,6 +88,11 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   const EffectPlan plan = plan_effects(s, quality);
   Expected<WaveField> waves = trace_wave_field(s, std::max(threads, 1u));
   if (!waves) return waves.error();
+  // Before the sea's grids, the most of the build: again, with the rays as traced.
+  const BuildCost cost = estimate_build_cost(s, quality, std::uint64_t(width) * height, threads, &waves.value());
+  if (Expected<void> fits = check_build_cost(cost, "at this quality and size, with the rays as traced"); !fits) {
+    return fits.error();
+  }
   Expected<SeaSurface> sea = SeaSurface::build(s, waves.value(), quality.sea_cell, SeaParts::drop, std::max(threads, 1u));
   if (!sea) return sea.error();
   Expected<SurfaceFrame> surface = SurfaceFrame::create(quality.surface);
@@ -110,6 +115,7 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
     if (!probe) return Error{"capillary", probe.error().message};
     a.noise_params_ = p;
   }
+  a.cost_ = cost;
   a.build_ms_ = ms_since(t0);
   return a;
 }

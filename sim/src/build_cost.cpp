@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "houle/sim/animation.hpp"
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene_keys.hpp"
@@ -26,8 +27,9 @@ constexpr double two_pi = 2.0 * std::numbers::pi;
 // with and without reflection, 25 MiB for 154,000 reflected samples; the coast, 14 MiB for 87,000).
 constexpr double sample_kept = 57.0, sample_staged = 64.0, reflected_sample_traced = 120.0;
 // An initial ray: its entry on the front, its state in the sweep, its arrays in the output (measured:
-// 1.9 million rays entering dry land, 86 MiB).
-constexpr double ray_bytes = 46.0;
+// 1.9 million rays entering dry land, 86 MiB); while its train is traced, a ray also holds its last
+// chunk of 32 staged samples, half full on average, and its sweep state.
+constexpr double ray_bytes = 46.0, ray_staged = 1300.0;
 // A sea grid node, kept per traced train: phi, b_re, b_im, kx, ky, fold, lean (floats), and K' where a
 // pierhead diffracts (the probe's three parts, 12 more, are within the renderer's share it does not build).
 constexpr double node_kept = 28.0, node_diffraction = 4.0;
@@ -126,7 +128,8 @@ double expected_samples(const Scene& s, std::size_t t, const Bathymetry& floor, 
 
 }  // namespace
 
-BuildCost estimate_build_cost(const Scene& s, const Quality& quality, std::uint64_t pixels, unsigned threads) {
+BuildCost estimate_build_cost(const Scene& s, const Quality& quality, std::uint64_t pixels, unsigned threads,
+                              const WaveField* traced_waves) {
   BuildCost c;
   const Bathymetry floor(s.floor);
   const double cell = quality.sea_cell;
@@ -153,14 +156,28 @@ BuildCost estimate_build_cost(const Scene& s, const Quality& quality, std::uint6
     reflected += r;
     largest = std::max(largest, n);
   }
+  if (traced_waves) {
+    // What was traced, and its trace's time spent.
+    samples = reflected = largest = rays = 0.0;
+    for (const WaveRays& w : traced_waves->trains) {
+      samples += double(w.sample_count());
+      rays += double(w.ray_count());
+      largest = std::max(largest, double(w.sample_count()));
+    }
+    for (const ReflectedWave& r : traced_waves->reflections) {
+      samples += double(r.rays.sample_count());
+      reflected += double(r.rays.sample_count());
+    }
+  }
   c.samples = count(samples);
   const double lanes = std::min<double>(std::max(1u, threads), double(std::max<std::size_t>(traced, 1)));
   const double kept_rays = samples * sample_kept + reflected * reflected_sample_traced + rays * ray_bytes,
-               staged = lanes * largest * sample_staged;
+               staged = lanes * (largest * sample_staged + rays / double(std::max<std::size_t>(traced, 1)) * ray_staged);
   const double wall_count = double(walls.size());
   c.trace_s = samples * (per_sample_s + 2.0 * (per_depth_s + floor.features_per_sample() * per_feature_s) +
                          wall_count * per_wall_test_s) +
               rays * (per_ray_s + wall_count * per_wall_test_s);
+  if (traced_waves) c.trace_s = 0.0;
   // Nodes near a wall (within its half thickness and the carrier stencil's reach), where every move is
   // tested against every wall.
   double near_wall = 0.0;

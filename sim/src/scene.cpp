@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "houle/sim/bathymetry.hpp"
+#include "houle/sim/animation.hpp"  // quality_preset
 #include "houle/sim/build_cost.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene_keys.hpp"

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """The build's estimated peak memory against the measured one (issue 22), on a sweep of scenes from
 the shipped ones to the extremes the limits allow: each is rendered (one draft frame, one thread) by
-`houle render --verbose`, whose estimate (made before the build) is read from its output and
-compared with the process's peak resident set (getrusage of the child). Fails when an estimate is
-more than 25 % off; prints the table (scene, estimate, measured, ratio, estimated and measured CPU).
+`houle render --verbose`, whose estimates (before the build; once the rays are traced, before the
+sea's grids) are read from its output and compared with the process's peak resident set (getrusage
+of the child). Fails when the second is more than 25 % off; prints the table (scene, estimates,
+measured, ratio, estimated and measured CPU).
 
 usage: build_cost_sweep.py HOULE SOURCE_DIR [--only NAME]
 """
@@ -78,8 +79,8 @@ code = subprocess.run(sys.argv[1:]).returncode
 u = resource.getrusage(resource.RUSAGE_CHILDREN)
 print("child exit %d maxrss %d cpu %.3f" % (code, u.ru_maxrss, u.ru_utime + u.ru_stime))"""
 failures = 0
-print("| scene | estimated MiB | measured MiB | ratio | estimated CPU s | measured CPU s |")
-print("|---|---|---|---|---|---|")
+print("| scene | estimated MiB | once traced | measured MiB | ratio | estimated CPU s | measured CPU s |")
+print("|---|---|---|---|---|---|---|")
 for name, path in sweep:
     if only and name != only:
         continue
@@ -93,13 +94,19 @@ for name, path in sweep:
         failures += 1
         print("| %s | FAILED: %s %s |" % (name, p.stdout.strip(), p.stderr.strip().replace("\n", " / ")))
         continue
+    traced = re.search(r"estimated once traced: (\d+) MiB at the peak", p.stderr)
     measured = int(usage.group(2)) / 1024.0
     cpu = float(usage.group(3))
     estimate = float(m.group(1))
-    ratio = estimate / measured
+    # The build is checked again once the rays are traced, before the sea's grids (most of its memory
+    # and time): that estimate, with the rays as traced, is the one the build is held to. The first,
+    # before any work, cannot foresee rays inserted without end over a rough floor (the caps bound them).
+    held = float(traced.group(1))
+    ratio = held / measured
     ok = 0.75 <= ratio <= 1.25
     failures += not ok
-    print("| %s | %.0f | %.0f | %.2f%s | %s | %.1f |" % (name, estimate, measured, ratio, "" if ok else " FAIL", m.group(2), cpu))
+    print("| %s | %.0f | %.0f | %.0f | %.2f%s | %s | %.1f |" % (name, estimate, float(traced.group(1)), measured, ratio,
+                                                            "" if ok else " FAIL", m.group(2), cpu))
     if "--parts" in sys.argv:
         print(re.search(r"estimated build: .*", p.stderr).group(0))
     sys.stdout.flush()

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "houle/sim/animation.hpp"
 #include "houle/sim/build_cost.hpp"
 #include "houle/sim/scene.hpp"
 

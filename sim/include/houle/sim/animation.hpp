@@ -14,6 +14,7 @@
 #include "houle/render/framebuffer.hpp"
 #include "houle/render/renderer.hpp"
 #include "houle/surface/surface_frame.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "houle/sim/wave_rays.hpp"
@@ -58,6 +59,8 @@ class Animation {
   const Renderer& renderer() const noexcept { return renderer_; }
   const Camera& camera() const noexcept { return camera_; }
   double build_ms() const noexcept { return build_ms_; }
+  /// The build's cost as estimated once the rays were traced (build_cost.hpp), checked then.
+  const BuildCost& build_cost() const noexcept { return cost_; }
   /// Frames that built a capillary noise frame: 0 when the effect plan skips the noise.
   std::uint64_t noise_frames() const noexcept { return noise_frames_; }
 
@@ -73,6 +76,7 @@ class Animation {
   CapillaryFrame noise_{};
   AnimationTimes times_{};
   double build_ms_ = 0.0;
+  BuildCost cost_{};
   std::uint64_t noise_frames_ = 0;
 };
 

@@ -7,10 +7,12 @@
 #include <string>
 
 #include "houle/runtime/expected.hpp"
-#include "houle/sim/animation.hpp"
 #include "houle/sim/scene.hpp"
+#include "houle/sim/wave_rays.hpp"
 
 namespace houle {
+
+struct Quality;  // animation.hpp
 
 struct BuildCost {
   /// Peak resident bytes, by part, at the build's stage where they peak (tracing, resampling or
@@ -28,8 +30,12 @@ struct BuildCost {
   double seconds() const noexcept { return trace_s + sea_s + floor_s; }
 };
 
-/// The estimate for a valid scene built by Animation::create(scene, quality, pixels, threads).
-BuildCost estimate_build_cost(const Scene& scene, const Quality& quality, std::uint64_t pixels, unsigned threads);
+/// The estimate for a valid scene built by Animation::create(scene, quality, pixels, threads). With
+/// `traced` (the scene's traced waves), the rest of the build from there: the samples and rays are
+/// those traced (the prediction misses rays inserted without end over a rough floor, which only the
+/// caps bound), the tracing itself done.
+BuildCost estimate_build_cost(const Scene& scene, const Quality& quality, std::uint64_t pixels, unsigned threads,
+                              const WaveField* traced = nullptr);
 
 /// Builds longer than this (estimated CPU time at the cheapest quality) are refused by `validate`.
 inline constexpr double max_build_seconds = 300.0;
