@@ -8,9 +8,11 @@ measured, ratio, estimated and measured CPU).
 
 usage: build_cost_sweep.py HOULE SOURCE_DIR [--only NAME]
 """
+import atexit
 import os
 import random
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -18,6 +20,7 @@ import tempfile
 houle, src = sys.argv[1], sys.argv[2]
 only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
 work = tempfile.mkdtemp()
+atexit.register(shutil.rmtree, work, ignore_errors=True)
 
 
 def scene(name, text):
