@@ -122,10 +122,10 @@ the message names the file (and line when a key is at fault) and what was expect
             << "| estimated peak memory of the scene build (traced rays, the sea's resampling grids and their "
                "scratch, the floor grid, the walls' blocks, image buffers; sim/src/build_cost.cpp) | "
             << (lim::max_animation_bytes >> 30)
-            << " GiB | `validate` at the draft quality; `render`, `bench`, `info` at theirs, `probe` on 0.5 m cells or "
-               "else 1 m |\n"
+            << " GiB | `validate` at the draft quality; `render`, `bench`, `info` at theirs (and again once the rays "
+               "are traced, before the sea's grids), `probe` on 0.5 m cells or else 1 m |\n"
             << "| estimated CPU time of the scene build (one core of the development machine) | " << num(houle::max_build_seconds)
-            << R"md( s | `validate` at the draft quality; `render`, `bench`, `info` at theirs |
+            << R"md( s | the same |
 | image size (`--size`) | each side 1..16384, at most 64 Mpixels | `render`, `bench` |
 | frames (`--frames`) | at most 10 000 000 per run, numbered below 2^31 | `render` |
 )md";
