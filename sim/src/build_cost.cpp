@@ -27,8 +27,8 @@ constexpr double two_pi = 2.0 * std::numbers::pi;
 // with and without reflection, 25 MiB for 154,000 reflected samples; the coast, 14 MiB for 87,000).
 constexpr double sample_kept = 57.0, sample_staged = 64.0, reflected_sample_traced = 120.0;
 // An initial ray: its entry on the front, its state in the sweep, its arrays in the output (measured:
-// 1.9 million rays entering dry land, 86 MiB); while its train is traced, a ray also holds its last
-// chunk of 32 staged samples, half full on average, and its sweep state.
+// 1.9 million rays entering dry land, 86 MiB); while its train is traced, a ray that takes samples
+// also holds its last chunk of 32 staged samples, half full on average, and its sweep state.
 constexpr double ray_bytes = 46.0, ray_staged = 1300.0;
 // A sea grid node, kept per traced train: phi, b_re, b_im, kx, ky, fold, lean (floats), and K' where a
 // pierhead diffracts (the probe's three parts, 12 more, are within the renderer's share it does not build).
@@ -54,7 +54,10 @@ constexpr double inserted_per_initial = 1.0, reflected_per_incident = 0.5;
 
 // CPU seconds (one core of the development machine).
 constexpr double per_sample_s = 0.7e-6;         // a traced sample: the step, tubes, insertion, the gather
-constexpr double per_ray_s = 2.5e-6;            // an initial ray: its entry, state and gather
+constexpr double per_ray_s = 2.5e-6;            // an initial ray: its entry, state and gather; three
+                                                // times that where walls reflect (1.9 million rays
+                                                // entering land: 2.8 us each; 5 million beside 11
+                                                // reflecting walls: 8.9 us)
 constexpr double per_splat_s = 8.0e-9;          // a sample spread onto one grid node
 constexpr double per_node_s = 0.9e-6;           // a sea node of one traced train: the passes and the march
 constexpr double per_diffraction_s = 0.12e-6;   // a pierhead's diffracted wave at one node
@@ -172,11 +175,12 @@ BuildCost estimate_build_cost(const Scene& s, const Quality& quality, std::uint6
   c.samples = count(samples);
   const double lanes = std::min<double>(std::max(1u, threads), double(std::max<std::size_t>(traced, 1)));
   const double kept_rays = samples * sample_kept + reflected * reflected_sample_traced + rays * ray_bytes,
-               staged = lanes * (largest * sample_staged + rays / double(std::max<std::size_t>(traced, 1)) * ray_staged);
+               staged = lanes * (largest * sample_staged +
+                                 std::min(largest, rays / double(std::max<std::size_t>(traced, 1))) * ray_staged);
   const double wall_count = double(walls.size());
   c.trace_s = samples * (per_sample_s + 2.0 * (per_depth_s + floor.features_per_sample() * per_feature_s) +
                          wall_count * per_wall_test_s) +
-              rays * (per_ray_s + wall_count * per_wall_test_s);
+              rays * (per_ray_s * (reflecting ? 3.0 : 1.0) + wall_count * per_wall_test_s);
   if (traced_waves) c.trace_s = 0.0;
   // Nodes near a wall (within its half thickness and the carrier stencil's reach), where every move is
   // tested against every wall.
