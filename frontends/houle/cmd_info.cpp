@@ -9,6 +9,7 @@
 
 #include "cli.hpp"
 #include "commands.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/effect_plan.hpp"
 #include "houle/sim/scene_geometry.hpp"
 #include "houle/sim/sea_surface.hpp"
@@ -103,6 +104,11 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
   const unsigned threads = run->threads;
   const Quality q = quality_preset(quality);
   const EffectPlan plan = plan_effects(s, q);
+  const BuildCost cost = estimate_build_cost(s, q, 0, threads);
+  if (const Expected<void> fits = check_build_cost(cost, "at this quality"); !fits) {
+    std::fprintf(stderr, "houle info: %s: %s: %s\n", run->name.c_str(), fits.error().field.c_str(), fits.error().message.c_str());
+    return 2;
+  }
   std::vector<std::string> warnings = scene_warnings(s);
 
   const auto t0 = std::chrono::steady_clock::now();
@@ -182,6 +188,8 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
     std::printf(" \"sea_diffraction\": {\"pierheads\": %zu, \"evaluations\": %llu},\n", dw.pierheads,
                 static_cast<unsigned long long>(dw.evaluations));
     std::printf(" \"memory_bytes\": {\"rays\": %zu, \"sea_grid\": %zu},\n", rays_memory, sea_memory);
+    std::printf(" \"estimate\": {\"peak_bytes\": %llu, \"cpu_seconds\": %.6g, \"samples\": %llu},\n",
+                (unsigned long long)cost.bytes(), cost.seconds(), (unsigned long long)cost.samples);
     std::printf(" \"build_ms\": {\"trace\": %.3f, \"sea_surface\": %.3f, \"total\": %.3f}}\n", trace_ms, sea_ms,
                 trace_ms + sea_ms);
     return 0;
@@ -222,12 +230,12 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
               std::size_t(floating));
   for (const std::string& w : warnings) std::printf("warning: %s\n", w.c_str());
   std::printf("capillary ripples: %s\n", s.capillary.amplitude > 0.0 ? "on" : "off");
-  std::printf("effect plan (%s): ray tracing %s, wave model %s (%s), diffraction %s, wall reflection %s, capillary noise %s, "
+  std::printf("effect plan (%s): ray tracing %s, diffraction %s, wall reflection %s, capillary noise %s, "
               "refraction %s, specular %s, shadows %s, object reflections %s\n",
-              quality_name(quality).data(), yes(plan.ray_tracing), wave_model_name(plan.wave_model.kind).data(),
-              plan.wave_model.why.data(), yes(plan.diffraction), yes(plan.wall_reflection),
+              quality_name(quality).data(), yes(plan.ray_tracing), yes(plan.diffraction), yes(plan.wall_reflection),
               yes(plan.capillary_noise), yes(plan.refraction), yes(plan.specular), yes(plan.shadows),
               yes(plan.reflect_objects));
+  std::printf("wave model: %s (%s)\n", wave_model_name(plan.wave_model.kind).data(), plan.wave_model.why.data());
   std::printf("rays: %llu (%llu initial, %llu inserted, %llu reflected), %llu samples, %llu wavefront steps (%llu shared "
               "by two lanes), %llu turned back by refraction%s\n",
               static_cast<unsigned long long>(st.rays), static_cast<unsigned long long>(st.initial_rays),
@@ -238,6 +246,8 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
   std::printf("diffracted waves (sea surface): %zu (pierheads x trains), computed at %llu grid nodes in all\n",
               dw.pierheads, static_cast<unsigned long long>(dw.evaluations));
   std::printf("memory: rays %.2f MiB, sea grids %.2f MiB\n", double(rays_memory) / 1048576.0, double(sea_memory) / 1048576.0);
+  std::printf("estimated before the build (a render adds its image and floor): %.0f MiB at the peak, %.1f s of CPU, %llu samples\n",
+              double(cost.bytes()) / 1048576.0, cost.seconds(), (unsigned long long)cost.samples);
   std::printf("build time: %.2f ms (tracing %.2f ms, resampling %.2f ms, %u threads)\n", trace_ms + sea_ms, trace_ms, sea_ms,
               threads);
   return 0;

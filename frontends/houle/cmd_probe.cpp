@@ -6,6 +6,7 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "houle/sim/bathymetry.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/scene_geometry.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "probe_sea.hpp"

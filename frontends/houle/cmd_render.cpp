@@ -15,6 +15,7 @@
 #include "frame_files.hpp"
 #include "frame_writer.hpp"
 #include "houle/sim/animation.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "render_options.hpp"
 #include "scene_source.hpp"
 
@@ -136,6 +137,15 @@ int cmd_render(std::span<char* const> argv) {
   std::optional<Scene> scene = scene_from_args(positionals, "render");
   if (!scene) return 2;
 
+  if (o.verbose) {
+    const BuildCost cost = estimate_build_cost(*scene, quality_preset(o.quality), std::uint64_t(o.width) * o.height, o.threads);
+    const auto mib = [](std::uint64_t b) { return double(b) / 1048576.0; };
+    std::fprintf(stderr,
+                 "houle render: estimated build: %.0f MiB at the peak (rays %.0f, sea grids %.0f, floor %.0f, image %.0f, "
+                 "program %.0f), %.1f s of CPU (tracing %.1f, sea grids %.1f, floor %.1f), %llu samples\n",
+                 mib(cost.bytes()), mib(cost.rays), mib(cost.sea), mib(cost.floor), mib(cost.image), mib(cost.program),
+                 cost.seconds(), cost.trace_s, cost.sea_s, cost.floor_s, (unsigned long long)cost.samples);
+  }
   Expected<Animation> anim = Animation::create(*scene, quality_preset(o.quality), std::uint32_t(o.width),
                                                std::uint32_t(o.height), o.threads);
   if (!anim) {
@@ -153,7 +163,12 @@ int cmd_render(std::span<char* const> argv) {
     return 2;
   }
   const bool progress = !o.quiet, live = progress && ::isatty(2);  // live: one line redrawn with \r
-  if (o.verbose) std::fprintf(stderr, "houle render: scene built in %.1f ms\n", anim->build_ms());
+  if (o.verbose) {
+    const BuildCost& c = anim->build_cost();
+    std::fprintf(stderr, "houle render: estimated once traced: %.0f MiB at the peak, %.1f s of CPU after the trace, %llu samples\n",
+                 double(c.bytes()) / 1048576.0, c.seconds(), (unsigned long long)c.samples);
+    std::fprintf(stderr, "houle render: scene built in %.1f ms\n", anim->build_ms());
+  }
 
   // From here on a stop ends the run after a complete frame (and a --raw file written whole is removed).
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_stop_signal);

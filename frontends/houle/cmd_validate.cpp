@@ -9,7 +9,7 @@ namespace houle::cli {
 int cmd_validate(std::span<char* const> argv) {
   Args args("validate", argv);
   if (args.flag("--help")) {
-    std::puts("usage: houle validate SCENE...\n\nChecks scene files; prints `SCENE: ok` or the first error of each as\nfile:line:column: error: field: what was expected. Exit code 2 if any is invalid.");
+    std::puts("usage: houle validate SCENE...\n\nChecks scene files; prints `SCENE: ok` or the first error of each as\nfile:line:column: error: field: what was expected, and warnings (a trace likely to\nreach dwt.max_samples) as file:line:column: warning: field: why. Exit code 2 if any is invalid.");
     return 0;
   }
   const std::vector<std::string> files = args.rest();
@@ -19,7 +19,9 @@ int cmd_validate(std::span<char* const> argv) {
   }
   int status = 0;
   for (const std::string& f : files) {
-    const Expected<Scene> scene = load_scene_file(f);
+    std::vector<Error> warnings;
+    const Expected<Scene> scene = load_scene_file(f, &warnings);
+    for (const Error& w : warnings) std::fprintf(stderr, "%s: warning: %s\n", w.field.c_str(), w.message.c_str());
     if (scene) {
       std::printf("%s: ok\n", f.c_str());
     } else {

@@ -34,6 +34,8 @@ Expected<std::string> format_frame_name(const std::string& pattern, long index) 
     if (j >= pattern.size() || pattern[j] != 'd') {
       return Error{pattern, "the output pattern may only hold integer conversions like %04d"};
     }
+    // A width past 9999 would make printf pad that far; no file system takes a name over 255 bytes anyway.
+    if (j - i - 1 > 4) return Error{pattern, "the frame number's width makes a file name longer than 255 bytes"};
     ++conversions;
     conversion_end = j;
     i = j;
@@ -43,9 +45,15 @@ Expected<std::string> format_frame_name(const std::string& pattern, long index) 
                               std::to_string(conversions)};
   }
   const std::string pat = pattern.substr(0, conversion_end) + "l" + pattern.substr(conversion_end);  // %04d -> %04ld
-  std::vector<char> buf(pattern.size() + 32);
+  // The width is the user's (at most 9999, checked above): size the name from it.
+  std::vector<char> buf(std::size_t(std::snprintf(nullptr, 0, pat.c_str(), index)) + 1);
   std::snprintf(buf.data(), buf.size(), pat.c_str(), index);
-  return std::string(buf.data());
+  std::string name(buf.data());
+  if (const std::string file = std::filesystem::path(name).filename().string(); file.size() > 255) {
+    return Error{pattern, "the frame number's width makes a file name of " + std::to_string(file.size()) +
+                              " bytes, over the 255 a file system takes"};
+  }
+  return name;
 }
 
 namespace {

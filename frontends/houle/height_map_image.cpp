@@ -20,7 +20,7 @@ struct Pixels {
     auto& p = *static_cast<Pixels*>(context);
     p.width = width;
     p.height = height;
-    if (width < 2 || height < 2 || std::size_t(width) * std::size_t(height) > max_height_map_pixels) return nullptr;
+    if (width < 2 || height < 2 || width > max_height_map_side || height > max_height_map_side) return nullptr;
     p.grey.resize(std::size_t(width) * std::size_t(height));
     return p.grey.data();
   }
@@ -43,7 +43,8 @@ Expected<HeightMap> load_height_map(const std::string& path, const HeightMapFile
   if (status == 2 && (pixels.width < 2 || pixels.height < 2)) return Error{path, "a height map needs at least 2x2 pixels"};
   if (status == 2) {
     return Error{path, "height map of " + std::to_string(pixels.width) + "x" + std::to_string(pixels.height) +
-                           " pixels is over the limit of 8192x8192"};
+                           " pixels is over the limit of " + std::to_string(max_height_map_side) + "x" +
+                           std::to_string(max_height_map_side)};
   }
   if (status != 0) return Error{path, std::string("height map: ") + message};
   HeightMap map;

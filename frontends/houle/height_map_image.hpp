@@ -8,8 +8,8 @@
 
 namespace houle::cli {
 
-/// Images larger than this many pixels are refused up front.
-inline constexpr std::size_t max_height_map_pixels = std::size_t(8192) * 8192;
+/// Images wider or taller than this many pixels are refused up front.
+inline constexpr int max_height_map_side = 8192;
 /// Files larger than this are refused before reading: 8192x8192 RGBA floats fit.
 inline constexpr std::uintmax_t max_height_map_bytes = std::uintmax_t(1) << 31;
 

@@ -13,11 +13,19 @@ double distance_outside(const Domain& d, double x, double y) {
 }
 
 std::optional<SeaSurface> build_probe_sea(const Scene& scene, const std::string& name, const char* command, int& exit_code) {
-  const float sea_cell = Quality{}.sea_cell;  // the realtime quality's resampling grid
   exit_code = 2;
-  if (const Expected<void> fits = check_build_memory(scene, sea_cell, 0); !fits) {
-    std::fprintf(stderr, "houle %s: %s: %s: %s\n", command, name.c_str(), fits.error().field.c_str(), fits.error().message.c_str());
-    return std::nullopt;
+  // The realtime quality's resampling grid, or the draft's where that would not fit (validate made
+  // sure the draft's does).
+  float sea_cell = Quality{}.sea_cell;
+  if (const Expected<void> fits = check_build_cost(estimate_build_cost(scene, Quality{}, 0, 2), "on 0.5 m cells"); !fits) {
+    const Quality draft = quality_preset(QualityPreset::draft);
+    if (const Expected<void> coarse = check_build_cost(estimate_build_cost(scene, draft, 0, 2), "on 1 m cells"); !coarse) {
+      std::fprintf(stderr, "houle %s: %s: %s: %s\n", command, name.c_str(), coarse.error().field.c_str(), coarse.error().message.c_str());
+      return std::nullopt;
+    }
+    sea_cell = draft.sea_cell;
+    std::fprintf(stderr, "houle %s: %s: note: the sea is resampled on %g m cells: %s\n", command, name.c_str(), double(sea_cell),
+                 fits.error().message.c_str());
   }
   Expected<WaveField> field = trace_wave_field(scene, 2);
   if (!field) {

@@ -18,6 +18,7 @@
 #include "height_map_image.hpp"
 #include "input_file.hpp"
 #include "houle/sim/scene_keys.hpp"
+#include "houle/sim/wave_rays.hpp"
 #include "toml_ascii.hpp"
 
 namespace houle::cli {
@@ -102,17 +103,22 @@ class Reader {
       out = v;
     }
   }
+  /// An integer; one beyond what `Int` holds is refused with the key's range (validation checks the rest).
   template <class Int>
     requires std::is_integral_v<Int> && (!std::is_same_v<Int, bool>)
-  void read(std::string_view key, Int& out) {
-    if (const toml::node* n = get(key)) {
-      const auto v = n->value_exact<std::int64_t>();
-      if (!v || *v < std::int64_t(std::numeric_limits<Int>::min()) || *v > std::int64_t(std::numeric_limits<Int>::max())) {
-        wrong(*n, key, "an integer in range");
-      } else {
-        out = Int(*v);
-      }
+  void read(std::string_view key, Int& out, const scene_keys::Range& range = scene_keys::any) {
+    const toml::node* n = get(key);
+    if (!n) return;
+    const auto v = n->value_exact<std::int64_t>();
+    if (!v) return wrong(*n, key, "an integer");
+    if (*v >= std::int64_t(std::numeric_limits<Int>::min()) && *v <= std::int64_t(std::numeric_limits<Int>::max())) {
+      out = Int(*v);
+      return;
     }
+    const std::string bounds = range.bounded() ? scene_keys::describe(range)
+                                               : "[" + std::to_string(std::numeric_limits<Int>::min()) + ", " +
+                                                     std::to_string(std::numeric_limits<Int>::max()) + "]";
+    ctx_.fail(ctx_.at(*n), field(key), "a count in " + bounds + ", got " + std::to_string(*v));
   }
   void read(std::string_view key, bool& out) {
     if (const toml::node* n = get(key)) {
@@ -248,7 +254,9 @@ void read_keys(Reader& r, const scene_keys::Section<S>& section, S& item, Contex
     std::visit(
         [&](auto member) {
           auto& v = item.*member;
-          if constexpr (std::is_enum_v<std::remove_cvref_t<decltype(v)>>) r.choice(k.name, v, k.choices);
+          using T = std::remove_cvref_t<decltype(v)>;
+          if constexpr (std::is_enum_v<T>) r.choice(k.name, v, k.choices);
+          else if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) r.read(k.name, v, k.range);
           else r.read(k.name, v);
         },
         k.member);
@@ -323,7 +331,10 @@ void read_scene(const toml::table& root, Scene& s, Context& ctx) {
 
 }  // namespace
 
-Expected<Scene> parse_scene(std::string_view text, const std::string& name, const std::string& dir) {
+Expected<Scene> parse_scene(std::string_view text, const std::string& name, const std::string& dir,
+                            std::vector<Error>* warnings) {
+  // Editors on Windows start UTF-8 files with a byte order mark; TOML allows it.
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   const Expected<std::string> ascii = toml_ascii(text, name);
   if (!ascii) return ascii.error();
   toml::parse_result parsed = toml::parse(ascii.value(), name);
@@ -337,13 +348,18 @@ Expected<Scene> parse_scene(std::string_view text, const std::string& name, cons
   read_scene(parsed.table(), scene, ctx);
   if (ctx.error) return *ctx.error;
   Expected<Scene> valid = validate(std::move(scene));
-  if (valid) return valid;
-  const Error& e = valid.error();
-  const Where w = ctx.place(e.field);
-  return Error{name + ":" + std::to_string(w.line) + ":" + std::to_string(w.column), e.field + ": " + e.message};
+  const auto placed = [&](const Error& e) {
+    const Where w = ctx.place(e.field);
+    return Error{name + ":" + std::to_string(w.line) + ":" + std::to_string(w.column), e.field + ": " + e.message};
+  };
+  if (!valid) return placed(valid.error());
+  if (warnings) {
+    for (const Error& w : trace_cap_warnings(valid.value())) warnings->push_back(placed(w));
+  }
+  return valid;
 }
 
-Expected<Scene> load_scene_file(const std::string& path) {
+Expected<Scene> load_scene_file(const std::string& path, std::vector<Error>* warnings) {
   const Expected<std::uintmax_t> size = regular_file_size(path);
   if (!size) return Error{path, "cannot read the scene file: " + size.error().message};
   if (size.value() > max_scene_file_bytes) {
@@ -354,7 +370,7 @@ Expected<Scene> load_scene_file(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (!in) return Error{path, "cannot read the scene file"};
-  return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
+  return parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string(), warnings);
 }
 
 }  // namespace houle::cli

@@ -3,6 +3,7 @@
 #pragma once
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "houle/runtime/expected.hpp"
 #include "houle/sim/scene.hpp"
@@ -13,9 +14,11 @@ namespace houle::cli {
 /// image file beside it).
 inline constexpr std::size_t max_scene_file_bytes = 1 << 20;
 
-/// Error.field is "file:line:column", Error.message "key.path: what was expected".
-Expected<Scene> load_scene_file(const std::string& path);
+/// Error.field is "file:line:column", Error.message "key.path: what was expected". With `warnings`, a
+/// valid scene's likely troubles (trace_cap_warnings) are added there, placed the same way.
+Expected<Scene> load_scene_file(const std::string& path, std::vector<Error>* warnings = nullptr);
 /// The same from text; `name` is used in messages, relative image paths resolve against `dir`.
-Expected<Scene> parse_scene(std::string_view text, const std::string& name, const std::string& dir);
+Expected<Scene> parse_scene(std::string_view text, const std::string& name, const std::string& dir,
+                            std::vector<Error>* warnings = nullptr);
 
 }  // namespace houle::cli

@@ -1,5 +1,6 @@
 #include "houle/sim/animation.hpp"
 #include "houle/sim/camera_path.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/effect_plan.hpp"
 #include "houle/sim/floating_objects.hpp"
 
@@ -21,42 +22,7 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 constexpr std::array<std::string_view, 3> quality_names = {"draft", "realtime", "film"};
 
-std::uint64_t grid_nodes(const Domain& d, double cell) {
-  return std::uint64_t(std::ceil((d.x_max - d.x_min) / cell) + 1.0) * std::uint64_t(std::ceil((d.y_max - d.y_min) / cell) + 1.0);
-}
-std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
-
 }  // namespace
-
-// Per traced sample: the tracer's store (9 doubles, flags, ray index) and the output rays (7 doubles,
-// flags) exist together at the end of a trace. Per sea grid node and traced train (a sea state's
-// components each count): phi, b_re, b_im, kx, ky, fold, lean and K' (TrainField); with the parabolic
-// model, its march grid while the train is resampled. The floor grid has one float per metre
-// (render_scene.cpp), and the renderer one more for its clearance map.
-// Per pixel: the renderer's and the caller's buffers,
-// and the primary hits the renderer keeps (counted at up to 8 samples, capped as the renderer caps them).
-Expected<void> check_build_memory(const Scene& s, float sea_cell, std::uint64_t pixels) {
-  constexpr std::uint64_t per_sample = 9 * 8 + 1 + 4 + 7 * 8 + 1, per_node = 8 * 4, per_pixel = 64;
-  std::uint64_t rays = 0, sea = 0;
-  const bool parabolic = scene_wave_model(s).kind == WaveModelKind::parabolic;
-  const Bathymetry bathymetry(s.floor);
-  for (std::size_t t = 0; t < s.trains.size(); ++t) {
-    if (s.dwt.analytic_shortcut && !train_needs_rays(s, t)) continue;
-    rays += std::uint64_t(dwt_bound(s, t, s.dwt).samples) * per_sample;
-    sea += grid_nodes(s.domain, sea_cell) * per_node;
-    // The parabolic model's march grid (a complex float a node) lives while its train is resampled.
-    if (parabolic) sea += detail::parabolic_nodes(s, bathymetry, detail::parabolic_train(s, bathymetry, t)) * 8;
-  }
-  const std::uint64_t kept = std::min<std::uint64_t>(pixels * 8 * Renderer::kept_hit_bytes, Renderer::max_kept_bytes);
-  const std::uint64_t floor = grid_nodes(s.domain, 1.0) * 8, image = pixels * per_pixel + kept;
-  const std::uint64_t total = rays + sea + floor + image;
-  if (total <= scene_limits::max_animation_bytes) return {};
-  return Error{"scene", "needs an estimated " + mib(total) + " at this quality and size (wave rays " + mib(rays) +
-                            ", sea grids " + mib(sea) + ", floor " + mib(floor) + ", image " + mib(image) +
-                            "), over the limit of " + mib(scene_limits::max_animation_bytes) +
-                            ": expected a smaller domain or image, fewer traced trains, a lower dwt.max_samples "
-                            "or a coarser quality"};
-}
 
 std::string_view quality_name(QualityPreset q) noexcept {
   HOULE_ASSERT(std::size_t(q) < quality_names.size(), "quality_name: one of the QualityPreset values");
@@ -106,7 +72,11 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   Expected<Scene> scene = validate(scene_in);
   if (!scene) return scene.error();
   const Scene& s = scene.value();
-  if (Expected<void> fits = check_build_memory(s, quality.sea_cell, std::uint64_t(width) * height); !fits) return fits.error();
+  if (Expected<void> fits = check_build_cost(estimate_build_cost(s, quality, std::uint64_t(width) * height, threads),
+                                             "at this quality and size");
+      !fits) {
+    return fits.error();
+  }
 
   Expected<Camera> camera = make_camera(camera_params(camera_pose(s.camera, 0.0), width, height));
   if (!camera) return Error{"camera", camera.error().message};
@@ -116,6 +86,11 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   const EffectPlan plan = plan_effects(s, quality);
   Expected<WaveField> waves = trace_wave_field(s, std::max(threads, 1u));
   if (!waves) return waves.error();
+  // Before the sea's grids, the most of the build: again, with the rays as traced.
+  const BuildCost cost = estimate_build_cost(s, quality, std::uint64_t(width) * height, threads, &waves.value());
+  if (Expected<void> fits = check_build_cost(cost, "at this quality and size, with the rays as traced"); !fits) {
+    return fits.error();
+  }
   Expected<SeaSurface> sea = SeaSurface::build(s, waves.value(), quality.sea_cell, SeaParts::drop, std::max(threads, 1u));
   if (!sea) return sea.error();
   Expected<SurfaceFrame> surface = SurfaceFrame::create(quality.surface);
@@ -152,6 +127,7 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
     if (!probe) return Error{"capillary", probe.error().message};
     a.noise_params_ = p;
   }
+  a.cost_ = cost;
   a.build_ms_ = ms_since(t0);
   return a;
 }

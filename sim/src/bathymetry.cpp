@@ -110,6 +110,7 @@ Bathymetry::Bathymetry(SeaFloor floor) : floor_(std::move(floor)) {
   for (const Channel& s : floor_.channels) scale = std::min(scale, s.half_width);
   if (floor_.height_map) scale = std::min(scale, floor_.height_map->cell);
   length_scale_ = scale;
+  build_bins();
 }
 
 DepthSample Bathymetry::sample(double x, double y) const noexcept {
@@ -145,43 +146,144 @@ DepthSample Bathymetry::sample(double x, double y) const noexcept {
     r.grad_x += m.grad_x;
     r.grad_y += m.grad_y;
   }
-  for (std::size_t i = 0; i < floor_.shoals.size(); ++i) {
-    const Shoal& s = floor_.shoals[i];
-    const double c = shoal_axis_[2 * i], sn = shoal_axis_[2 * i + 1];
-    const double dx = x - s.center.x, dy = y - s.center.y;
-    const double xa = (dx * c + dy * sn) / s.semi_axis_a, yb = (-dx * sn + dy * c) / s.semi_axis_b;
-    const Profile p = cubic_profile(xa * xa + yb * yb);
-    if (p.f == 0.0) continue;
-    const double du_dx = 2.0 * (xa * c / s.semi_axis_a - yb * sn / s.semi_axis_b);
-    const double du_dy = 2.0 * (xa * sn / s.semi_axis_a + yb * c / s.semi_axis_b);
-    r.depth -= s.height * p.f;
-    r.grad_x -= s.height * p.df * du_dx;
-    r.grad_y -= s.height * p.df * du_dy;
+  if (bins_.nx == 0) {
+    for (std::size_t i = 0; i < floor_.shoals.size(); ++i) add_shoal(i, x, y, r);
+    for (std::size_t i = 0; i < floor_.bars.size(); ++i) add_bar(i, x, y, r);
+    for (std::size_t i = 0; i < floor_.channels.size(); ++i) add_channel(i, x, y, r);
+    return r;
   }
-  for (std::size_t i = 0; i < floor_.bars.size(); ++i) {
-    const Bar& s = floor_.bars[i];
-    const double nx = bar_normal_[2 * i], ny = bar_normal_[2 * i + 1];
-    const double d = ((x - s.point.x) * nx + (y - s.point.y) * ny) / s.half_width;
-    const Profile p = cubic_profile(d * d);
-    if (p.f == 0.0) continue;
-    r.depth -= s.height * p.f;
-    r.grad_x -= s.height * p.df * 2.0 * d * nx / s.half_width;
-    r.grad_y -= s.height * p.df * 2.0 * d * ny / s.half_width;
+  const double u = (x - bins_.x0) / bins_.size_x, v = (y - bins_.y0) / bins_.size_y;
+  if (!(u >= 0.0 && u < double(bins_.nx) && v >= 0.0 && v < double(bins_.ny))) {
+    for (std::size_t i = 0; i < floor_.bars.size(); ++i) add_bar(i, x, y, r);
+    return r;
   }
-  for (const Channel& s : floor_.channels) {
-    // Squared distance to a segment is C1 (its gradient is 2 (p - closest point)).
-    const double ax = s.to.x - s.from.x, ay = s.to.y - s.from.y;
-    const double len2 = ax * ax + ay * ay;
-    const double t = len2 > 0.0 ? std::clamp(((x - s.from.x) * ax + (y - s.from.y) * ay) / len2, 0.0, 1.0) : 0.0;
-    const double dx = x - (s.from.x + t * ax), dy = y - (s.from.y + t * ay);
-    const double w2 = s.half_width * s.half_width;
-    const Profile p = cubic_profile((dx * dx + dy * dy) / w2);
-    if (p.f == 0.0) continue;
-    r.depth += s.depth * p.f;
-    r.grad_x += s.depth * p.df * 2.0 * dx / w2;
-    r.grad_y += s.depth * p.df * 2.0 * dy / w2;
+  const std::size_t bin = std::size_t(v) * bins_.nx + std::size_t(u);
+  for (std::uint32_t k = bins_.first[bin]; k < bins_.first[bin + 1]; ++k) {
+    const std::uint32_t item = bins_.items[k], i = item & 0x3fffffffu;
+    switch (item >> 30) {
+      case 0: add_shoal(i, x, y, r); break;
+      case 1: add_bar(i, x, y, r); break;
+      default: add_channel(i, x, y, r); break;
+    }
   }
   return r;
+}
+
+void Bathymetry::add_shoal(std::size_t i, double x, double y, DepthSample& r) const noexcept {
+  const Shoal& s = floor_.shoals[i];
+  const double c = shoal_axis_[2 * i], sn = shoal_axis_[2 * i + 1];
+  const double dx = x - s.center.x, dy = y - s.center.y;
+  const double xa = (dx * c + dy * sn) / s.semi_axis_a, yb = (-dx * sn + dy * c) / s.semi_axis_b;
+  const Profile p = cubic_profile(xa * xa + yb * yb);
+  if (p.f == 0.0) return;
+  const double du_dx = 2.0 * (xa * c / s.semi_axis_a - yb * sn / s.semi_axis_b);
+  const double du_dy = 2.0 * (xa * sn / s.semi_axis_a + yb * c / s.semi_axis_b);
+  r.depth -= s.height * p.f;
+  r.grad_x -= s.height * p.df * du_dx;
+  r.grad_y -= s.height * p.df * du_dy;
+}
+
+void Bathymetry::add_bar(std::size_t i, double x, double y, DepthSample& r) const noexcept {
+  const Bar& s = floor_.bars[i];
+  const double nx = bar_normal_[2 * i], ny = bar_normal_[2 * i + 1];
+  const double d = ((x - s.point.x) * nx + (y - s.point.y) * ny) / s.half_width;
+  const Profile p = cubic_profile(d * d);
+  if (p.f == 0.0) return;
+  r.depth -= s.height * p.f;
+  r.grad_x -= s.height * p.df * 2.0 * d * nx / s.half_width;
+  r.grad_y -= s.height * p.df * 2.0 * d * ny / s.half_width;
+}
+
+void Bathymetry::add_channel(std::size_t i, double x, double y, DepthSample& r) const noexcept {
+  // Squared distance to a segment is C1 (its gradient is 2 (p - closest point)).
+  const Channel& s = floor_.channels[i];
+  const double ax = s.to.x - s.from.x, ay = s.to.y - s.from.y;
+  const double len2 = ax * ax + ay * ay;
+  const double t = len2 > 0.0 ? std::clamp(((x - s.from.x) * ax + (y - s.from.y) * ay) / len2, 0.0, 1.0) : 0.0;
+  const double dx = x - (s.from.x + t * ax), dy = y - (s.from.y + t * ay);
+  const double w2 = s.half_width * s.half_width;
+  const Profile p = cubic_profile((dx * dx + dy * dy) / w2);
+  if (p.f == 0.0) return;
+  r.depth += s.depth * p.f;
+  r.grad_x += s.depth * p.df * 2.0 * dx / w2;
+  r.grad_y += s.depth * p.df * 2.0 * dy / w2;
+}
+
+void Bathymetry::build_bins() {
+  const std::size_t features = floor_.shoals.size() + floor_.bars.size() + floor_.channels.size();
+  if (features < 16) return;  // the plain sum is as quick
+  // Each feature's box (a shoal's ellipse, a channel's capsule; a bar's point and width, the box only
+  // places the grid), grown by a relative margin so that rounding never drops a feature a point sees.
+  struct Extent {
+    double x0, y0, x1, y1;
+  };
+  std::vector<Extent> boxes;
+  for (std::size_t i = 0; i < floor_.shoals.size(); ++i) {
+    const Shoal& s = floor_.shoals[i];
+    const double c = std::abs(shoal_axis_[2 * i]), sn = std::abs(shoal_axis_[2 * i + 1]);
+    const double hx = s.semi_axis_a * c + s.semi_axis_b * sn, hy = s.semi_axis_a * sn + s.semi_axis_b * c;
+    boxes.push_back({s.center.x - hx, s.center.y - hy, s.center.x + hx, s.center.y + hy});
+  }
+  for (const Bar& s : floor_.bars) {
+    boxes.push_back({s.point.x - s.half_width, s.point.y - s.half_width, s.point.x + s.half_width, s.point.y + s.half_width});
+  }
+  for (const Channel& s : floor_.channels) {
+    boxes.push_back({std::min(s.from.x, s.to.x) - s.half_width, std::min(s.from.y, s.to.y) - s.half_width,
+                     std::max(s.from.x, s.to.x) + s.half_width, std::max(s.from.y, s.to.y) + s.half_width});
+  }
+  Extent all = boxes.front();
+  for (Extent& b : boxes) {
+    const double m = 1e-9 * (std::abs(b.x0) + std::abs(b.x1) + std::abs(b.y0) + std::abs(b.y1)) + 1e-9;
+    b = {b.x0 - m, b.y0 - m, b.x1 + m, b.y1 + m};
+    all = {std::min(all.x0, b.x0), std::min(all.y0, b.y0), std::max(all.x1, b.x1), std::max(all.y1, b.y1)};
+  }
+  const std::size_t shoals = floor_.shoals.size(), bars = floor_.bars.size();
+  // About two features a bin if they were spread evenly, at most 256 x 256 bins; fewer while the
+  // lists would pass 2^22 items (features that cover everything gain nothing from bins).
+  std::uint32_t n = std::uint32_t(std::clamp(std::ceil(std::sqrt(double(features) / 2.0)), 1.0, 256.0));
+  for (;; n = (n + 1) / 2) {
+    bins_.x0 = all.x0;
+    bins_.y0 = all.y0;
+    bins_.size_x = std::max((all.x1 - all.x0) / n, 1e-9);
+    bins_.size_y = std::max((all.y1 - all.y0) / n, 1e-9);
+    bins_.nx = bins_.ny = n;
+    std::vector<std::vector<std::uint32_t>> lists(std::size_t(n) * n);
+    std::size_t total = 0;
+    const auto cell = [&](double v, double origin, double size) {
+      return std::uint32_t(std::clamp(std::floor((v - origin) / size), 0.0, double(n - 1)));
+    };
+    for (std::size_t f = 0; f < boxes.size() && total <= (1u << 22); ++f) {
+      const Extent& b = boxes[f];
+      const bool bar = f >= shoals && f < shoals + bars;
+      const std::uint32_t tag = f < shoals ? std::uint32_t(f) : bar ? (1u << 30) | std::uint32_t(f - shoals)
+                                                                     : (2u << 30) | std::uint32_t(f - shoals - bars);
+      const std::uint32_t i0 = bar ? 0 : cell(b.x0, bins_.x0, bins_.size_x), i1 = bar ? n - 1 : cell(b.x1, bins_.x0, bins_.size_x);
+      const std::uint32_t j0 = bar ? 0 : cell(b.y0, bins_.y0, bins_.size_y), j1 = bar ? n - 1 : cell(b.y1, bins_.y0, bins_.size_y);
+      for (std::uint32_t j = j0; j <= j1; ++j) {
+        for (std::uint32_t i = i0; i <= i1; ++i) {
+          if (bar) {
+            // The bin meets the bar's strip if its centre is within the half width plus the bin's
+            // extent along the bar's normal.
+            const double nx = bar_normal_[2 * (f - shoals)], ny = bar_normal_[2 * (f - shoals) + 1];
+            const double cx = bins_.x0 + (i + 0.5) * bins_.size_x, cy = bins_.y0 + (j + 0.5) * bins_.size_y;
+            const Bar& s = floor_.bars[f - shoals];
+            const double reach = s.half_width + 0.5 * (std::abs(nx) * bins_.size_x + std::abs(ny) * bins_.size_y);
+            if (std::abs((cx - s.point.x) * nx + (cy - s.point.y) * ny) > reach * (1.0 + 1e-9) + 1e-9) continue;
+          }
+          lists[std::size_t(j) * n + i].push_back(tag);
+          ++total;
+        }
+      }
+    }
+    if (total > (1u << 22) && n > 1) continue;
+    bins_.first.assign(1, 0);
+    bins_.items.clear();
+    for (const auto& l : lists) {
+      bins_.items.insert(bins_.items.end(), l.begin(), l.end());
+      bins_.first.push_back(std::uint32_t(bins_.items.size()));
+    }
+    return;
+  }
 }
 
 double Bathymetry::min_depth_bound(const Domain& d) const noexcept {

@@ -9,9 +9,12 @@
 #include <utility>
 
 #include "houle/sim/bathymetry.hpp"
+#include "houle/sim/animation.hpp"  // quality_preset
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene_keys.hpp"
 #include "houle/sim/sea_state.hpp"
+#include "houle/sim/wave_rays.hpp"
 #include "clip_line.hpp"
 
 namespace houle {
@@ -158,9 +161,9 @@ Expected<void> check_camera(const Scene& s) {
   const Bathymetry floor(s.floor);
   // The still camera, or each key of a moving one: looking somewhere, above the sea floor.
   const auto check_view = [&](Point3 position, Point3 look_at, const std::string& field) -> Expected<void> {
-    if (position.x == look_at.x && position.y == look_at.y && position.z == look_at.z) {
-      return Error{field + ".look_at", "a point different from " + field + ".position"};
-    }
+    // The renderer holds both as floats: closer than a centimetre the view direction is lost.
+    const double apart = std::hypot(look_at.x - position.x, look_at.y - position.y, look_at.z - position.z);
+    if (!(apart >= 0.01)) return bad(field + ".look_at", "a point at least 0.01 m from " + field + ".position", apart);
     const double floor_z = -floor.depth(position.x, position.y);
     if (position.z < floor_z) {
       return bad(field + ".position.z", "a height above the sea floor there (z = " + num(floor_z) + " m)", position.z);
@@ -182,10 +185,30 @@ Expected<void> check_camera(const Scene& s) {
   return {};
 }
 
-Expected<void> check_dwt(const DwtSettings& d) {
+// Crapper's limit of a capillary wave's steepness, H/L = 0.73, for the coarsest octave.
+Expected<void> check_capillary(const CapillaryNoise& c) {
+  if (c.amplitude > 0.365 * c.base_wavelength) {
+    return bad("capillary.amplitude", "at most 0.365 base_wavelength = " + num(0.365 * c.base_wavelength) +
+                                          " m (Crapper's limit of a capillary wave's steepness, H/L = 0.73)", c.amplitude);
+  }
+  return {};
+}
+
+Expected<void> check_dwt(const Scene& s) {
+  const DwtSettings& d = s.dwt;
   if (d.initial_rays == 1) return bad("dwt.initial_rays", "0 (automatic) or at least 2", 1.0);
-  if (d.max_rays < d.initial_rays) {
-    return bad("dwt.max_rays", "at least initial_rays = " + std::to_string(d.initial_rays), d.max_rays);
+  if (d.initial_rays > d.max_rays) {
+    return bad("dwt.initial_rays", "at most dwt.max_rays = " + std::to_string(d.max_rays), d.initial_rays);
+  }
+  if (d.initial_rays > 0) return {};
+  for (std::size_t i = 0; i < s.trains.size(); ++i) {
+    const FrontSize f = front_size(s, i, d);
+    if (f.rays <= d.max_rays) continue;
+    return bad("dwt.insertion_distance",
+               "at least " + num(f.width / d.max_rays) + " m: trains[" + std::to_string(i) + "]'s front is " +
+                   num(f.width) + " m wide, and a ray every insertion distance would exceed dwt.max_rays = " +
+                   std::to_string(d.max_rays),
+               d.insertion_distance);
   }
   return {};
 }
@@ -224,7 +247,8 @@ Expected<Scene> validate(Scene scene) {
   if (auto e = check_walls(scene.walls, scene.domain); !e) return e.error();
   if (auto e = check_trains(scene.trains); !e) return e.error();
   if (auto e = check_camera(scene); !e) return e.error();
-  if (auto e = check_dwt(scene.dwt); !e) return e.error();
+  if (auto e = check_capillary(scene.capillary); !e) return e.error();
+  if (auto e = check_dwt(scene); !e) return e.error();
   // The sea states' components, again from scratch: a valid scene validates to itself.
   std::erase_if(scene.trains, [](const WaveTrain& t) { return t.sea_state >= 0; });
   for (std::size_t i = 0; i < scene.sea_states.size(); ++i) {
@@ -232,6 +256,9 @@ Expected<Scene> validate(Scene scene) {
     if (!components) return components.error();
     scene.trains.insert(scene.trains.end(), components->begin(), components->end());
   }
+  // Whatever validates builds: at the cheapest quality, at least (build_cost.hpp).
+  const BuildCost draft = estimate_build_cost(scene, quality_preset(QualityPreset::draft), 0, 1);
+  if (auto e = check_build_cost(draft, "at the draft quality"); !e) return e.error();
   return scene;
 }
 

@@ -11,15 +11,21 @@ bool Range::contains(double v) const noexcept {
 
 bool Range::bounded() const noexcept { return std::isfinite(lo) || std::isfinite(hi); }
 
-std::string number_text(double v) {
-  char buf[32];
+namespace {
+
+// Plain digits where they are short (100000, 0.000001), else the shortest form (1e+308).
+template <class T>
+std::string shortest(T v) {
+  char buf[400];
+  char* fixed = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed).ptr;
+  if (fixed - buf <= 12) return std::string(buf, fixed);
   return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
 }
 
-std::string number_text(float v) {
-  char buf[32];
-  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
-}
+}  // namespace
+
+std::string number_text(double v) { return shortest(v); }
+std::string number_text(float v) { return shortest(v); }
 
 std::string describe(const Range& r) {
   if (std::isfinite(r.lo) && std::isfinite(r.hi)) {
@@ -124,6 +130,11 @@ Expected<void> check_choice(int v, std::span<const Choice> choices, const std::s
 
 namespace {
 
+// Floor features narrower than 0.5 m are invisible to waves of 1.5 m and longer (the shortest a train
+// may have) and would only shrink the tracer's steps; objects from a millimetre.
+constexpr Range feature_size{0.5, scene_limits::max_coordinate};
+constexpr Range object_size{0.001, scene_limits::max_coordinate};
+
 constexpr Key<Domain> domain_keys[] = {
     {"x_min", &Domain::x_min, "m", any, "west edge of the rectangle in which wave rays are traced"},
     {"y_min", &Domain::y_min, "m", any, "south edge"},
@@ -139,37 +150,37 @@ constexpr Choice floor_kinds[] = {
 constexpr bool beach(const FloorBase& b) { return b.kind == FloorKind::planar_beach; }
 constexpr Key<FloorBase> floor_base_keys[] = {
     {"kind", &FloorBase::kind, "", any, "the base shape", floor_kinds},
-    {"depth", &FloorBase::depth, "m", positive, "flat: the depth; beach: the offshore plateau's depth"},
+    {"depth", &FloorBase::depth, "m", {0.0, 11000.0, true}, "flat: the depth; beach: the offshore plateau's depth"},
     {"slope", &FloorBase::slope, "m/m", {1e-6, 1.0},
      "beach: depth gained per metre seaward, the tangent of the bottom slope (1:50 = 0.02)", {}, beach},
-    {"shoreward_deg", &FloorBase::shoreward_deg, "deg", any, "beach: direction from sea towards shore", {}, beach},
-    {"shoreline", &FloorBase::shoreline, "m", any,
+    {"shoreward_deg", &FloorBase::shoreward_deg, "deg", angle, "beach: direction from sea towards shore", {}, beach},
+    {"shoreline", &FloorBase::shoreline, "m", coordinate,
      "beach: a point of the still-water shoreline (depth 0); landward of it the floor keeps rising with the same "
      "slope",
      {}, beach},
 };
 
 constexpr Key<Shoal> shoal_keys[] = {
-    {"center", &Shoal::center, "m", any, "centre"},
-    {"semi_axis_a", &Shoal::semi_axis_a, "m", positive, "semi-axis along `orientation_deg`"},
-    {"semi_axis_b", &Shoal::semi_axis_b, "m", positive, "semi-axis across it (equal to `semi_axis_a`: circular)"},
-    {"orientation_deg", &Shoal::orientation_deg, "deg", any, "direction of `semi_axis_a`"},
-    {"height", &Shoal::height, "m", any,
+    {"center", &Shoal::center, "m", coordinate, "centre"},
+    {"semi_axis_a", &Shoal::semi_axis_a, "m", feature_size, "semi-axis along `orientation_deg`"},
+    {"semi_axis_b", &Shoal::semi_axis_b, "m", feature_size, "semi-axis across it (equal to `semi_axis_a`: circular)"},
+    {"orientation_deg", &Shoal::orientation_deg, "deg", angle, "direction of `semi_axis_a`"},
+    {"height", &Shoal::height, "m", elevation,
      "how much the floor rises at the centre (negative: a pit); profile (1 − u)³, smooth to the rim"},
 };
 
 constexpr Key<Bar> bar_keys[] = {
-    {"point", &Bar::point, "m", any, "a point of the crest line"},
-    {"along_deg", &Bar::along_deg, "deg", any, "direction of the crest line"},
-    {"half_width", &Bar::half_width, "m", positive, "half width"},
-    {"height", &Bar::height, "m", any, "rise on the crest line (negative: a trough)"},
+    {"point", &Bar::point, "m", coordinate, "a point of the crest line"},
+    {"along_deg", &Bar::along_deg, "deg", angle, "direction of the crest line"},
+    {"half_width", &Bar::half_width, "m", feature_size, "half width"},
+    {"height", &Bar::height, "m", elevation, "rise on the crest line (negative: a trough)"},
 };
 
 constexpr Key<Channel> channel_keys[] = {
-    {"from", &Channel::from, "m", any, "one end of the axis"},
-    {"to", &Channel::to, "m", any, "the other end"},
-    {"half_width", &Channel::half_width, "m", positive, "half width"},
-    {"depth", &Channel::depth, "m", any, "extra depth on the axis (negative: a levee)"},
+    {"from", &Channel::from, "m", coordinate, "one end of the axis"},
+    {"to", &Channel::to, "m", coordinate, "the other end"},
+    {"half_width", &Channel::half_width, "m", feature_size, "half width"},
+    {"depth", &Channel::depth, "m", elevation, "extra depth on the axis (negative: a levee)"},
 };
 
 constexpr Choice height_map_modes[] = {
@@ -179,30 +190,34 @@ constexpr Choice height_map_modes[] = {
 constexpr Key<HeightMapFile> height_map_keys[] = {
     {"file", &HeightMapFile::file, "path", any,
      "image read by OpenImageIO, relative to the scene file; its first channel is used", {}, nullptr, true},
-    {"origin", &HeightMapFile::origin, "m", any, "position of the bottom-left pixel centre (the image's top row is north)"},
-    {"cell", &HeightMapFile::cell, "m", positive, "distance between pixel centres"},
-    {"depth_at_black", &HeightMapFile::depth_at_black, "m", any, "depth where the grey level is 0"},
-    {"depth_at_white", &HeightMapFile::depth_at_white, "m", any,
+    {"origin", &HeightMapFile::origin, "m", coordinate, "position of the bottom-left pixel centre (the image's top row is north)"},
+    {"cell", &HeightMapFile::cell, "m", {0.01, 10000.0}, "distance between pixel centres"},
+    {"depth_at_black", &HeightMapFile::depth_at_black, "m", elevation, "depth where the grey level is 0"},
+    {"depth_at_white", &HeightMapFile::depth_at_white, "m", elevation,
      "depth where the grey level is 1 (grey levels between map linearly)"},
     {"mode", &HeightMapFile::mode, "", any, "how the map combines with `[floor.base]`", height_map_modes},
 };
 
 constexpr Key<Wall> wall_keys[] = {
-    {"points", &Wall::points, "m", any,
+    {"points", &Wall::points, "m", coordinate,
      "polyline of at least 2 points, consecutive points distinct; each segment must meet the domain (grown by "
      "half the thickness)",
      {}, nullptr, true},
-    {"thickness", &Wall::thickness, "m", non_negative, "width of the structure"},
+    {"thickness", &Wall::thickness, "m", {0.0, 20.0},
+     "width of the structure at its crest (the widest breakwaters' crests are about 20 m; wider is land: raise the floor)"},
     {"reflection", &Wall::reflection, "", unit_interval, "reflection coefficient α (1 rigid, 0 absorbing)"},
-    {"crest_height", &Wall::crest_height, "m", any, "height above still water (rendering)"},
+    {"crest_height", &Wall::crest_height, "m", {0.0, 11000.0},
+     "height above still water (rendering); a submerged crest would be overtopped, which houle's waves are not"},
 };
 
 constexpr Key<WaveTrain> train_keys[] = {
-    {"direction_deg", &WaveTrain::direction_deg, "deg", any, "direction of travel"},
-    {"direction", &WaveTrain::direction, "", any,
+    {"direction_deg", &WaveTrain::direction_deg, "deg", angle, "direction of travel"},
+    {"direction", &WaveTrain::direction, "", coordinate,
      "direction of travel as a vector of any non-zero length (overrides `direction_deg`)"},
-    {"period", &WaveTrain::period, "s", positive, "wave period; give exactly one of `period` and `wavelength`"},
-    {"wavelength", &WaveTrain::wavelength, "m", positive, "deep-water wavelength L0 = g T² / 2π"},
+    {"period", &WaveTrain::period, "s", {1.0, 60.0},
+     "wave period; give exactly one of `period` and `wavelength`. Shorter waves are ripples (`[capillary]`), "
+     "longer ones tides and tsunamis, which this model does not hold"},
+    {"wavelength", &WaveTrain::wavelength, "m", {1.5, 5600.0}, "deep-water wavelength L0 = g T² / 2π (T of 1-60 s)"},
     {"amplitude", &WaveTrain::amplitude, "m", non_negative,
      "deep-water amplitude A0, at most the Stokes limit 0.071 L0 (H/L0 = 0.142); shoaled to the local depth "
      "where rays enter the domain"},
@@ -226,17 +241,20 @@ constexpr Key<SeaState> sea_state_keys[] = {
 };
 
 constexpr Key<CapillaryNoise> capillary_keys[] = {
-    {"amplitude", &CapillaryNoise::amplitude, "m", non_negative, "0 switches the ripples off (no noise work at all)"},
-    {"base_wavelength", &CapillaryNoise::base_wavelength, "m", positive, "lattice spacing of the coarsest octave"},
+    {"amplitude", &CapillaryNoise::amplitude, "m", {0.0, 1.0},
+     "0 switches the ripples off (no noise work at all); at most 0.365 `base_wavelength` (Crapper's limit of "
+     "a capillary wave's steepness, H/L = 0.73)"},
+    {"base_wavelength", &CapillaryNoise::base_wavelength, "m", {0.01, 10.0},
+     "lattice spacing of the coarsest octave (longer than 10 m is swell: a `[[trains]]`)"},
     {"lacunarity", &CapillaryNoise::lacunarity, "", {1.25, 4.0}, "frequency ratio between octaves"},
     {"max_octaves", &CapillaryNoise::max_octaves, "", {0.0, 8.0}, "near the camera; far away octaves fade out"},
-    {"time_scale", &CapillaryNoise::time_scale, "", non_negative, "multiplies the ripples' drift (0 freezes them)"},
+    {"time_scale", &CapillaryNoise::time_scale, "", {0.0, 100.0}, "multiplies the ripples' drift (0 freezes them)"},
 };
 
 constexpr Key<Box> box_keys[] = {
-    {"center", &Box::center, "m", any, "centre"},
-    {"half_extent", &Box::half_extent, "m", positive, "half sizes"},
-    {"yaw_deg", &Box::yaw_deg, "deg", any, "rotation about z"},
+    {"center", &Box::center, "m", coordinate, "centre"},
+    {"half_extent", &Box::half_extent, "m", object_size, "half sizes"},
+    {"yaw_deg", &Box::yaw_deg, "deg", angle, "rotation about z"},
     {"colour", &Box::colour, "", unit_interval, "linear RGB reflectance"},
     {"float", &Box::floats, "", any, "heaves, pitches and rolls with the sea surface under it (`center`'s z is then ignored)"},
     {"density", &Box::density, "kg/m³", {0.0, sea_water_density, true, true},
@@ -244,8 +262,8 @@ constexpr Key<Box> box_keys[] = {
 };
 
 constexpr Key<Sphere> sphere_keys[] = {
-    {"center", &Sphere::center, "m", any, "centre"},
-    {"radius", &Sphere::radius, "m", positive, "radius"},
+    {"center", &Sphere::center, "m", coordinate, "centre"},
+    {"radius", &Sphere::radius, "m", object_size, "radius"},
     {"colour", &Sphere::colour, "", unit_interval, "linear RGB reflectance"},
     {"float", &Sphere::floats, "", any, "rides the sea surface under it (`center`'s z is then ignored)"},
     {"density", &Sphere::density, "kg/m³", {0.0, sea_water_density, true, true},
@@ -253,7 +271,7 @@ constexpr Key<Sphere> sphere_keys[] = {
 };
 
 constexpr Key<Sun> sun_keys[] = {
-    {"azimuth_deg", &Sun::azimuth_deg, "deg", any, "direction towards the sun"},
+    {"azimuth_deg", &Sun::azimuth_deg, "deg", angle, "direction towards the sun"},
     {"elevation_deg", &Sun::elevation_deg, "deg", {-90.0, 90.0}, "above the horizon"},
 };
 
@@ -262,9 +280,10 @@ constexpr Key<Sky> sky_keys[] = {
 };
 
 constexpr Key<ViewCamera> camera_keys[] = {
-    {"position", &ViewCamera::position, "m", any, "must be above the sea floor"},
-    {"look_at", &ViewCamera::look_at, "m", any, "point looked at (not the position)"},
-    {"vertical_fov_deg", &ViewCamera::vertical_fov_deg, "deg", {0.0, 180.0, true, true}, "vertical field of view"},
+    {"position", &ViewCamera::position, "m", coordinate, "must be above the sea floor"},
+    {"look_at", &ViewCamera::look_at, "m", coordinate, "point looked at, at least 1 cm from the position"},
+    {"vertical_fov_deg", &ViewCamera::vertical_fov_deg, "deg", {0.1, 170.0},
+     "vertical field of view (a pinhole camera: wider is a fisheye's, narrower a telescope's)"},
 };
 
 constexpr Key<CameraKey> camera_path_keys[] = {
@@ -276,8 +295,8 @@ constexpr Key<CameraKey> camera_path_keys[] = {
 };
 
 constexpr Key<Water> water_keys[] = {
-    {"extra_absorption", &Water::extra_absorption, "1/m", non_negative,
-     "added to pure water's absorption (turbidity, plankton)"},
+    {"extra_absorption", &Water::extra_absorption, "1/m", {0.0, 100.0},
+     "added to pure water's absorption (turbidity, plankton); at 100 1/m light is gone within 5 cm"},
     {"dominant_wavelength_nm", &Water::dominant_wavelength_nm, "nm", {380.0, 780.0},
      "sea colour (paper's table: Pacific 473, Atlantic 483, Baltic 540)"},
 };
@@ -292,15 +311,16 @@ constexpr Choice cap_policies[] = {
     {"warn", int(OnCap::warn), "the truncated field is kept and every command warns"},
 };
 constexpr Key<DwtSettings> dwt_keys[] = {
-    {"initial_rays", &DwtSettings::initial_rays, "", any,
-     "rays per train across the front, 0 or at least 2; 0: front width / insertion distance"},
-    {"front_width", &DwtSettings::front_width, "m", non_negative,
+    {"initial_rays", &DwtSettings::initial_rays, "", {0.0, double(scene_limits::max_rays)},
+     "rays per train across the front, 0 or at least 2, at most `max_rays`; 0: front width / insertion distance"},
+    {"front_width", &DwtSettings::front_width, "m", {0.0, scene_limits::max_coordinate},
      "width covered by the initial rays, centred on the domain; 0: the whole domain"},
-    {"step", &DwtSettings::step, "m", positive,
-     "arc-length step where a ray enters the domain (rays then advance by equal phase)"},
-    {"insertion_distance", &DwtSettings::insertion_distance, "m", positive,
-     "a ray is inserted between neighbours farther apart than this"},
-    {"min_depth", &DwtSettings::min_depth, "m", positive,
+    {"step", &DwtSettings::step, "m", {0.0, scene_limits::max_domain_side, true},
+     "arc-length step where a ray enters the domain (rays then advance by equal phase); at most the largest "
+     "domain side"},
+    {"insertion_distance", &DwtSettings::insertion_distance, "m", {0.0, scene_limits::max_domain_side, true},
+     "a ray is inserted between neighbours farther apart than this; at most the largest domain side"},
+    {"min_depth", &DwtSettings::min_depth, "m", {0.0, 11000.0, true},
      "rays stop where the depth falls below max(min_depth, min_depth_wavelengths · L0)"},
     {"min_depth_wavelengths", &DwtSettings::min_depth_wavelengths, "", {0.0, 0.5}, "see `min_depth`"},
     {"breaker_index", &DwtSettings::breaker_index, "", {0.1, 1.5},

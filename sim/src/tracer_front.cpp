@@ -24,6 +24,42 @@ Medium make_medium(const Scene& scene, const Bathymetry& floor, double omega, do
   return m;
 }
 
+namespace {
+
+// The domain as the train sees it: along its direction of travel from a_min to a_max, across it
+// (to the left) the front from c_lo, `width` wide, with `rays` initial rays.
+struct FrontSpan {
+  double a_min = inf, a_max = -inf, c_lo = inf, width = 0.0;
+  std::size_t rays = 0;
+};
+
+FrontSpan front_span(const Domain& d, double dx, double dy, const DwtSettings& set) {
+  const double lx = -dy, ly = dx;  // left of the direction of travel
+  FrontSpan s;
+  double c_hi = -inf;
+  for (double x : {d.x_min, d.x_max}) {
+    for (double y : {d.y_min, d.y_max}) {
+      s.a_min = std::min(s.a_min, x * dx + y * dy);
+      s.a_max = std::max(s.a_max, x * dx + y * dy);
+      s.c_lo = std::min(s.c_lo, x * lx + y * ly);
+      c_hi = std::max(c_hi, x * lx + y * ly);
+    }
+  }
+  s.width = c_hi - s.c_lo;
+  if (set.front_width > 0.0 && set.front_width < s.width) {
+    const double mid = 0.5 * (s.c_lo + c_hi);
+    s.c_lo = mid - 0.5 * set.front_width;
+    s.width = set.front_width;
+  }
+  // Automatic count: spacing strictly below b_max, so a flat bottom needs no insertion at all
+  // (validate refuses a count over dwt.max_rays; the clamp keeps the conversion defined).
+  const double automatic = std::min(std::floor(s.width / set.insertion_distance) + 1.0, 0x1p40);
+  s.rays = set.initial_rays > 0 ? set.initial_rays : std::max<std::size_t>(2, std::size_t(automatic));
+  return s;
+}
+
+}  // namespace
+
 Front make_front(const Scene& scene, std::size_t train, const DwtSettings& set, const Medium& medium) {
   Front f;
   const WaveTrain& t = scene.trains[train];
@@ -36,24 +72,9 @@ Front make_front(const Scene& scene, std::size_t train, const DwtSettings& set, 
   f.h_min = std::max(set.min_depth, set.min_depth_wavelengths * f.l0);
   const double lx = -f.dy, ly = f.dx;  // left of the direction of travel
   const Domain& d = scene.domain;
-  double a_min = std::numeric_limits<double>::infinity(), c_lo = a_min, c_hi = -a_min;
-  for (double x : {d.x_min, d.x_max}) {
-    for (double y : {d.y_min, d.y_max}) {
-      a_min = std::min(a_min, x * f.dx + y * f.dy);
-      c_lo = std::min(c_lo, x * lx + y * ly);
-      c_hi = std::max(c_hi, x * lx + y * ly);
-    }
-  }
-  double width = c_hi - c_lo;
-  if (set.front_width > 0.0 && set.front_width < width) {
-    const double mid = 0.5 * (c_lo + c_hi);
-    c_lo = mid - 0.5 * set.front_width;
-    width = set.front_width;
-  }
-  // Automatic count: spacing strictly below b_max, so a flat bottom needs no insertion at all.
-  const std::size_t n = set.initial_rays > 0
-                            ? set.initial_rays
-                            : std::max<std::size_t>(2, std::size_t(std::floor(width / set.insertion_distance)) + 1);
+  const FrontSpan span = front_span(d, f.dx, f.dy, set);
+  const double a_min = span.a_min, c_lo = span.c_lo, width = span.width;
+  const std::size_t n = span.rays;
   f.entries.resize(n);
   f.k_ref = std::numeric_limits<double>::infinity();
   // The sea outside the domain is open, but a wall that runs out beyond its edge shadows the part of
@@ -161,3 +182,13 @@ void TrainTracer::start_front() {
 }
 
 }  // namespace houle::detail
+
+namespace houle {
+
+FrontSize front_size(const Scene& scene, std::size_t train, const DwtSettings& settings) noexcept {
+  const Point2 dir = train_direction(scene.trains[train]);
+  const detail::FrontSpan s = detail::front_span(scene.domain, dir.x, dir.y, settings);
+  return {s.width, s.a_max - s.a_min, s.rays, {s.a_min * dir.x - s.c_lo * dir.y, s.a_min * dir.y + s.c_lo * dir.x}};
+}
+
+}  // namespace houle

@@ -1,6 +1,7 @@
 // Dynamic Wave Tracing's entry points (wave_rays.hpp): a scene's trains traced, each by a TrainTracer
 // (train_tracer.hpp), with their reflected waves, on a worker each and a second lane where threads allow.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <numbers>
@@ -10,6 +11,7 @@
 #include "houle/runtime/thread_pool.hpp"
 #include "houle/sim/bathymetry.hpp"
 #include "houle/sim/dispersion.hpp"
+#include "houle/sim/scene_keys.hpp"
 #include "houle/sim/wave_rays.hpp"
 #include "ray_walls.hpp"
 #include "train_tracer.hpp"
@@ -160,6 +162,25 @@ DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& set
   const double worst = double(settings.max_rays) * steps;
   b.samples = std::size_t(std::min(double(settings.max_samples), worst));
   return b;
+}
+
+std::vector<Error> trace_cap_warnings(const Scene& scene) {
+  std::vector<Error> warnings;
+  const DwtSettings& d = scene.dwt;
+  for (std::size_t i = 0; i < scene.trains.size(); ++i) {
+    if (d.analytic_shortcut && !train_needs_rays(scene, i)) continue;
+    const FrontSize f = front_size(scene, i, d);
+    const double steps = std::floor(f.length / d.step) + 1.0, samples = double(f.rays) * steps;
+    if (samples <= double(d.max_samples)) continue;
+    warnings.push_back(Error{"dwt.max_samples",
+                             "trains[" + std::to_string(i) + "]'s " + std::to_string(f.rays) + " initial rays cross the " +
+                                 scene_keys::number_text(std::round(f.length * 1e3) / 1e3) + " m domain in " +
+                                 scene_keys::number_text(steps) + " steps of dwt.step, about " +
+                                 scene_keys::number_text(std::round(samples)) + " samples before any insertion, "
+                                 "over this cap of " + std::to_string(d.max_samples) +
+                                 ": the trace is likely to stop there (an error unless dwt.on_cap = \"warn\")"});
+  }
+  return warnings;
 }
 
 Expected<WaveRays> trace_train(const Scene& scene, std::size_t train, const DwtSettings& settings, DwtStats* stats,

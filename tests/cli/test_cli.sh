@@ -46,7 +46,7 @@ period = "six"')
 expect wrong-type 2 'wrong-type.toml:2:10: error: trains\[0\].period: expected a number, got a string' "$houle" validate "$f"
 f=$(scene negative-period '[[trains]]
 period = -3.0')
-expect negative-period 2 'negative-period.toml:2:10: error: trains\[0\].period: a finite value > 0 s, got -3' "$houle" validate "$f"
+expect negative-period 2 'negative-period.toml:2:10: error: trains\[0\].period: a value in \[1, 60\] s, got -3' "$houle" validate "$f"
 f=$(scene too-steep '[[trains]]
 period = 4.0
 amplitude = 3.0')
@@ -122,7 +122,7 @@ if grep -q 'validate-ok.toml: ok$' "$work/validate.out"; then pass=$((pass + 1))
 # Limits (docs/scenes.md): refused up front with what was expected, never an out-of-memory crash.
 f=$(scene huge-domain '[domain]
 x_max = 1000000.0')
-expect limit-domain 2 'huge-domain.toml:2:9: error: domain.x_max: a side of at most 4000 m, got 1e\+06 m' "$houle" validate "$f"
+expect limit-domain 2 'huge-domain.toml:2:9: error: domain.x_max: a side of at most 4000 m, got 1000000 m' "$houle" validate "$f"
 f=$(scene many-trains "$(for i in $(seq 17); do printf '[[trains]]\nperiod = 5.0\n'; done)")
 expect limit-trains 2 'many-trains.toml:1:1: error: trains: at most 16 entries, got 17' "$houle" validate "$f"
 f=$(scene huge-caps '[dwt]
@@ -153,26 +153,87 @@ for cmd in "probe --at 50,80" "render --frames 0:0 --size 32x18 --out $work/capp
   expect "cap-warn-${cmd%% *}" 0 "houle ${cmd%% *}: .*capped-warn.toml: warning: the wave rays reached a cap" "$houle" $cmd "$f"
 done
 expect cap-warn-info 0 '^warning: the wave rays reached a cap' "$houle" info "$f"
-# Valid, but 16 traced trains over 4 km at film quality would need tens of GiB.
-f=$(scene huge-build "[domain]
+# Valid (its draft build fits), but a traced train over 4 km at film quality would need tens of GiB:
+# refused before the build. Sixteen of them fit no quality: validate refuses them.
+huge() { scene "$1" "[domain]
 x_max = 4000.0
 y_max = 4000.0
 [floor.base]
 kind = \"planar_beach\"
 depth = 30.0
 shoreline = [0.0, 4000.0]
-$(for i in $(seq 16); do printf '[[trains]]\nperiod = 8.0\n'; done)
+$(for i in $(seq "$2"); do printf '[[trains]]\nperiod = 8.0\n'; done)
 [camera]
 position = [2000.0, -20.0, 6.0]
-look_at = [2000.0, 80.0, 0.0]")
-expect limit-memory 2 'huge-build.toml: scene: needs an estimated [0-9]+ MiB .*over the limit of 4096 MiB' "$houle" render "$f" --quality film --frames 1 --raw "$work/never.rgb"
+look_at = [2000.0, 80.0, 0.0]"; }
+f=$(huge huge-build 1)
+expect limit-memory 2 'huge-build.toml: scene: needs an estimated [0-9]+ MiB at this quality and size .*over the limit of 4096 MiB' "$houle" render "$f" --quality film --frames 1 --raw "$work/never.rgb"
 [ -e "$work/never.rgb" ] && { fail=$((fail + 1)); echo "FAIL limit-memory: opened the output"; }
-expect limit-memory-probe 2 'huge-build.toml: scene: needs an estimated' "$houle" probe "$f" --at 10,10
+expect limit-memory-validate 2 'huge-16.toml:1:1: error: scene: needs an estimated [0-9]+ MiB at the draft quality' "$houle" validate "$(huge huge-16 16)"
 expect limit-size 2 'size expects WxH with each in 1..16384 and at most 64 Mpixels' "$houle" render --size 16384x16384 --frames 1 --raw "$work/never.rgb"
 expect limit-size-bench 2 'size expects WxH with each in 1..16384 and at most 64 Mpixels' "$houle" bench --size 10000x10000
 expect limit-frames 2 'frames expects .*at most 10000000 frames' "$houle" render --frames 0:99999999999 --raw "$work/never.rgb"
 expect limit-frame-count 2 'frames expects .*at most 10000000 frames' "$houle" render --frames 20000000 --raw "$work/never.rgb"
 expect limit-bench-frames 2 'frames expects a count in 1..10000000' "$houle" bench --frames 100000000
+# Hard input (issue 22): messages that state the range and never contradict themselves, a byte order
+# mark, a height map over the side limit, a trace likely to reach its cap warned of by validate.
+f=$(scene near-one '[[trains]]
+period = 4.0
+steepness = 1.0000001')
+expect round-trip 2 'near-one.toml:3:13: error: trains\[0\].steepness: a value in \[0, 1\], got 1.0000001$' "$houle" validate "$f"
+f=$(scene int-range '[dwt]
+max_rays = 5000000000')
+expect int-range 2 'int-range.toml:2:12: error: dwt.max_rays: a count in \[2, 1048576\], got 5000000000$' "$houle" validate "$f"
+f=$(scene initial-rays '[dwt]
+initial_rays = 5000000')
+expect initial-rays 2 'initial-rays.toml:2:16: error: dwt.initial_rays: a count in \[0, 1048576\], got 5000000$' "$houle" validate "$f"
+f=$(scene initial-rays-cap '[dwt]
+initial_rays = 40000')
+expect initial-rays-cap 2 'initial-rays-cap.toml:2:16: error: dwt.initial_rays: at most dwt.max_rays = 32768, got 40000$' "$houle" validate "$f"
+printf '\xef\xbb\xbf[sun]\nelevation_deg = 20.0\n' >"$work/bom.toml"
+expect utf8-bom 0 'bom.toml: ok$' "$houle" validate "$work/bom.toml"
+# png W H: a grey PNG image on stdout
+png() { python3 -c 'import sys,zlib,struct
+def chunk(t, d): return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d))
+w, h = int(sys.argv[1]), int(sys.argv[2])
+raw = b"".join(b"\0" + bytes(range(256)) * (w // 256) + bytes(w % 256) for _ in range(h))
+sys.stdout.buffer.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0)) + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))' "$1" "$2"; }
+png 70000 2 >"$work/wide.png"
+expect height-map-wide 2 'floor.height_map.file: height map of 70000x2 pixels is over the limit of 8192x8192' "$houle" validate "$(hm height-map-wide wide.png)"
+mkdir "$work/map-dir"
+expect height-map-dir 2 'floor.height_map.file: height map: cannot open the image: not a regular file' "$houle" validate "$(hm height-map-dir map-dir)"
+png 512 512 | head -c 200 >"$work/cut.png"
+expect height-map-truncated 2 'floor.height_map.file: height map: cannot read the image: .*[a-z]' "$houle" validate "$(hm height-map-truncated cut.png)"
+f=$(scene many-samples '[domain]
+x_max = 4000.0
+y_max = 4000.0
+[floor.base]
+kind = "planar_beach"
+shoreline = [0.0, 3900.0]
+[[trains]]
+period = 8.0
+[dwt]
+step = 0.05
+insertion_distance = 0.05
+max_rays = 1048576')
+expect validate-cap-warning 0 "many-samples.toml:[0-9]+:[0-9]+: warning: dwt.max_samples: trains\[0\]'s 80001 initial rays cross the 4000 m domain in 80001 steps of dwt.step, about 6400160001 samples" "$houle" validate "$f"
+# A wide frame number works up to the file system's 255 bytes a name, and beyond is blamed on the name.
+expect pattern-wide 0 '1 frames written' "$houle" render --frames 0:0 --size 32x18 --quality draft --out "$work/wide/%037d.png"
+[ -e "$work/wide/$(printf '%037d' 0).png" ] && pass=$((pass + 1)) || { fail=$((fail + 1)); echo "FAIL pattern-wide: no frame file"; }
+expect pattern-too-wide 2 "%0300d.png: the frame number's width makes a file name of 304 bytes, over the 255" "$houle" render --frames 0:0 --out "$work/%0300d.png"
+expect pattern-absurd 2 "%0999999999d.png: the frame number's width makes a file name longer than 255 bytes" "$houle" render --frames 0:0 --out "$work/%0999999999d.png"
+
+# The scene fuzzer's finds (tests/robust/scene_regressions): each is refused by validate with its
+# place, or renders and probes.
+for f in "$src"/tests/robust/scene_regressions/*.toml; do
+  if "$houle" validate "$f" >/dev/null 2>&1; then
+    expect "regression-render $(basename "$f")" 0 '1 frames written' "$houle" render "$f" --frames 0:0 --size 48x27 --quality draft --raw "$work/regression.rgb"
+    expect "regression-probe $(basename "$f")" 0 '^\(0, 0\) t=0 s: ' "$houle" probe "$f" --at 0,0
+  else
+    expect "regression-refused $(basename "$f")" 2 "$(basename "$f"):[0-9]+:[0-9]+: error: " "$houle" validate "$f"
+  fi
+done
+
 f=$(scene bad-enum '[floor.base]
 kind = "sloped"')
 expect bad-enum 2 'floor.base.kind: expected one of "flat", "planar_beach", got "sloped"' "$houle" validate "$f"
@@ -293,6 +354,9 @@ expect info-analytic 0 'analytic: straight crests, no rays' "$houle" info "$f"
 expect info-fig4 0 'ray tracing yes, diffraction yes, wall reflection yes' "$houle" info "$src/scenes/paper_fig4.toml"
 expect info-fig4-counts 0 '^rays: [0-9]+ \([0-9]+ initial, [0-9]+ inserted, [1-9][0-9]* reflected\)' "$houle" info "$src/scenes/paper_fig4.toml"
 expect info-fig4-diffraction 0 '^diffracted waves \(sea surface\): 1 \(pierheads x trains\), computed at [1-9][0-9]* grid nodes' "$houle" info "$src/scenes/paper_fig4.toml"
+expect info-wave-model 0 '^wave model: parabolic \(auto: shoals' "$houle" info "$src/scenes/coast.toml"
+{ cat "$src/scenes/coast.toml"; printf '\n[wave_model]\nkind = "rays"\n'; } >"$work/coast-rays.toml"
+expect info-wave-model-chosen 0 '^wave model: rays \(wave_model.kind = "rays"\)' "$houle" info "$work/coast-rays.toml"
 expect info-bad-quality 2 'info: --quality expects draft, realtime or film' "$houle" info --quality best
 for args in "$f" "$src/scenes/paper_fig4.toml" ""; do
   # shellcheck disable=SC2086

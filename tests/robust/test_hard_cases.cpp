@@ -192,7 +192,8 @@ houle::Scene beach_with_jetty(double size_m) {
 }
 
 TEST(HardCases, HugeAndTinyScenes) {
-  for (double size : {1000.0, 1.0}) {
+  // 20 m is the smallest: its waves, 0.08 of its size, are the shortest a train may have (L0 >= 1.5 m).
+  for (double size : {1000.0, 20.0}) {
     const houle::Scene scene = beach_with_jetty(size);
     ASSERT_TRUE(houle::validate(scene)) << size;
     houle::Expected<houle::WaveField> field = houle::trace_wave_field(scene, 2);
@@ -213,7 +214,7 @@ TEST(HardCases, HugeAndTinyScenes) {
       // Probe steps below the grid's cell (0.002 size): the interpolant must be continuous there.
       expect_sane_surface(houle::test::sweep_surface(sea.value(), 0, 0, size, size, float(0.001 * size)), what);
     }
-    // Draft's sea grid is 1 m: the whole 1 m scene is one cell, its phase interpolated across it.
+    // Draft's sea grid is 1 m: the 1.6 m waves span under two cells, their phase interpolated across them.
     expect_sane_frame(render(scene, 2.0), what);
   }
 }
@@ -255,9 +256,10 @@ TEST(HardCases, VeryLongAndVeryShortWavesForTheDepth) {
     const char* what;
     double period, depth, amplitude;
   };
-  // kh = 0.07 (40 s swell over 3 m: shallow, breaking-limited) and kh = 1900 (0.4 s chop over 30 m, a
-  // wavelength of 0.25 m, below the sea grid's 0.5 m cell and the rays' 0.4 m step).
-  for (const Case& c : {Case{"40 s swell over 3 m", 40.0, 3.0, 1.5}, Case{"0.4 s chop over 30 m", 0.4, 30.0, 0.01}}) {
+  // kh = 0.07 (40 s swell over 3 m: shallow, breaking-limited) and kh = 120 (1 s chop over 30 m, the
+  // shortest period a train may have: a wavelength of 1.56 m, three of the sea grid's 0.5 m cells and
+  // four of the rays' 0.4 m steps).
+  for (const Case& c : {Case{"40 s swell over 3 m", 40.0, 3.0, 1.5}, Case{"1 s chop over 30 m", 1.0, 30.0, 0.01}}) {
     houle::Scene scene = houle::builtin_coast();
     scene.trains.resize(1);
     scene.trains[0].period = c.period;

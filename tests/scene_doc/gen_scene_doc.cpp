@@ -7,7 +7,8 @@
 #include <type_traits>
 #include <variant>
 
-#include "height_map_image.hpp"  // max_height_map_pixels
+#include "height_map_image.hpp"  // max_height_map_side
+#include "houle/sim/build_cost.hpp"  // max_build_seconds
 #include "houle/sim/scene_keys.hpp"
 #include "scene_file.hpp"        // max_scene_file_bytes
 
@@ -99,7 +100,7 @@ void print_section(const keys::Section<S>& section) {
 
 void print_limits() {
   namespace lim = scene_limits;
-  const auto map_side = std::to_string(std::lround(std::sqrt(double(cli::max_height_map_pixels))));
+  const auto map_side = std::to_string(cli::max_height_map_side);
   std::cout << R"md(
 ## Limits
 
@@ -120,9 +121,13 @@ the message names the file (and line when a key is at fault) and what was expect
             << lim::max_items << " each; at most " << lim::max_wall_points << " points per wall | `validate` |\n"
             << "| `dwt.max_rays`, `dwt.max_samples` | at most " << lim::max_rays << " and " << lim::max_samples
             << " per train | `validate` |\n"
-            << "| estimated memory of the scene build at the chosen quality and image size (traced rays at their "
-               "caps, the sea's resampling grids, the floor grid, image buffers) | "
-            << (lim::max_animation_bytes >> 30) << R"md( GiB | `render`, `bench`, `probe` |
+            << "| estimated peak memory of the scene build (traced rays, the sea's resampling grids and their "
+               "scratch, the floor grid, the walls' blocks, image buffers; sim/src/build_cost.cpp) | "
+            << (lim::max_animation_bytes >> 30)
+            << " GiB | `validate` at the draft quality; `render`, `bench`, `info` at theirs (and again once the rays "
+               "are traced, before the sea's grids), `probe` on 0.5 m cells or else 1 m |\n"
+            << "| estimated CPU time of the scene build (one core of the development machine) | " << num(houle::max_build_seconds)
+            << R"md( s | the same |
 | image size (`--size`) | each side 1..16384, at most 64 Mpixels | `render`, `bench` |
 | frames (`--frames`) | at most 10 000 000 per run, numbered below 2^31 | `render` |
 )md";
@@ -138,7 +143,10 @@ takes the default below. Unknown keys, wrong types and out-of-range values are e
 `file:line:column: error: field: what was expected` (`houle validate SCENE`). Every number must be finite,
 and lie in its range (for a point, each coordinate). Frame: x east, y north, z up, metres; still water
 at z = 0; depth is positive below it (depth <= 0 is land). Angles in the horizontal plane are degrees
-counter-clockwise from +x (a train with `direction_deg = 90` travels north). Files over )md"
+counter-clockwise from +x (a train with `direction_deg = 90` travels north). Ranges hold what houle
+can compute and show: positions within )md" << num(scene_limits::max_coordinate / 1000.0) << R"md( km of the origin (the renderer's 32-bit floats still hold
+a centimetre there), angles within a turn either way, heights and depths within 11 km (the deepest
+sea). Files over )md"
             << (cli::max_scene_file_bytes >> 20) << R"md( MiB are refused
 (height maps belong in image files).
 

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "houle/sim/bathymetry.hpp"
 
@@ -151,3 +152,44 @@ TEST(Bathymetry, MinDepthBoundIsALowerBound) {
 }
 
 }  // namespace
+
+// A floor of 1024 each of shoals, bars and channels is binned (a point visits only the features that
+// reach it): its depth and gradient are those of the full sum to the bit, each feature added in
+// order, at points in and around the features and far outside them.
+TEST(Bathymetry, ManyFeaturesGiveTheFullSumToTheBit) {
+  std::mt19937 rng(22);
+  const auto u = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+  SeaFloor f;
+  f.base.kind = houle::FloorKind::planar_beach;
+  for (int i = 0; i < 1024; ++i) {
+    f.shoals.push_back({{u(-500, 500), u(-500, 500)}, u(0.5, 40), u(0.5, 40), u(-360, 360), u(-5, 5)});
+    f.bars.push_back({{u(-500, 500), u(-500, 500)}, u(-360, 360), u(0.5, 20), u(-2, 2)});
+    f.channels.push_back({{u(-500, 500), u(-500, 500)}, {u(-500, 500), u(-500, 500)}, u(0.5, 10), u(-3, 3)});
+  }
+  f.shoals[7].semi_axis_a = 3000.0;  // one reaching far beyond the others
+  const Bathymetry all(f);
+  // The reference: the base, then each feature's own contribution (over a zero base) added in order.
+  SeaFloor base = f;
+  base.shoals.clear(), base.bars.clear(), base.channels.clear();
+  std::vector<Bathymetry> each;
+  SeaFloor one;
+  one.base.depth = 0.0;
+  for (const houle::Shoal& s : f.shoals) one.shoals = {s}, each.emplace_back(one);
+  one.shoals.clear();
+  for (const houle::Bar& s : f.bars) one.bars = {s}, each.emplace_back(one);
+  one.bars.clear();
+  for (const houle::Channel& s : f.channels) one.channels = {s}, each.emplace_back(one);
+  const Bathymetry base_only(base);
+  int mismatches = 0;
+  for (int n = 0; n < 4000; ++n) {
+    const double x = n % 4 == 0 ? u(-5000, 5000) : u(-600, 600), y = n % 4 == 0 ? u(-5000, 5000) : u(-600, 600);
+    houle::DepthSample want = base_only.sample(x, y);
+    for (const Bathymetry& b : each) {
+      const houle::DepthSample c = b.sample(x, y);
+      want.depth += c.depth, want.grad_x += c.grad_x, want.grad_y += c.grad_y;
+    }
+    const houle::DepthSample got = all.sample(x, y);
+    mismatches += got.depth != want.depth || got.grad_x != want.grad_x || got.grad_y != want.grad_y;
+  }
+  EXPECT_EQ(mismatches, 0);
+}

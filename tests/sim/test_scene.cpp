@@ -12,6 +12,7 @@
 #include "houle/sim/camera_path.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/sim/scene_keys.hpp"
+#include "houle/sim/wave_rays.hpp"
 
 namespace {
 
@@ -57,7 +58,7 @@ TEST(Scene, TrainErrorsNameTheField) {
   const auto r = houle::validate(s);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().field, "trains[1].period");
-  EXPECT_NE(r.error().message.find("> 0 s"), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("in [1, 60] s"), std::string::npos) << r.error().message;
   EXPECT_NE(r.error().message.find("-3"), std::string::npos) << r.error().message;
 
   s = with_train();
@@ -163,6 +164,49 @@ TEST(Scene, TrainHelpers) {
   EXPECT_NEAR(houle::train_direction(t).y, -0.8, 1e-15);
   houle::WaveTrain none;
   EXPECT_EQ(houle::train_omega(none), 0.0);
+}
+
+// Values that validated and then made the build refuse, or render garbage (issue 22): refused by
+// validate, by the key, with the range and the value in its shortest exact form.
+TEST(Scene, WhatCannotRenderDoesNotValidate) {
+  const auto refused = [](void (*change)(Scene&)) {
+    Scene s = with_train();
+    change(s);
+    const auto r = houle::validate(s);
+    return r.ok() ? std::string("<valid>") : r.error().field + ": " + r.error().message;
+  };
+  EXPECT_EQ(refused([](Scene& s) { s.camera.position.x = 1e308; }), "camera.position.x: a value in [-100000, 100000] m, got 1e+308");
+  EXPECT_EQ(refused([](Scene& s) { s.spheres.push_back({{0, 0, 0}, 1e308}); }), "spheres[0].radius: a value in [0.001, 100000] m, got 1e+308");
+  EXPECT_EQ(refused([](Scene& s) { s.boxes.push_back({{0, 0, 0}, {1e308, 1, 1}}); }), "boxes[0].half_extent.x: a value in [0.001, 100000] m, got 1e+308");
+  EXPECT_EQ(refused([](Scene& s) { s.water.extra_absorption = 1e308; }), "water.extra_absorption: a value in [0, 100] 1/m, got 1e+308");
+  EXPECT_EQ(refused([](Scene& s) { s.floor.shoals.push_back({{10, 10}, 5, 5, 0, 1e308}); }), "floor.shoals[0].height: a value in [-11000, 11000] m, got 1e+308");
+  EXPECT_EQ(refused([](Scene& s) { s.capillary.amplitude = 1000; }), "capillary.amplitude: a value in [0, 1] m, got 1000");
+  EXPECT_EQ(refused([](Scene& s) { s.capillary.amplitude = 0.5; }).substr(0, 53), "capillary.amplitude: at most 0.365 base_wavelength = ");
+  EXPECT_EQ(refused([](Scene& s) { s.walls.push_back({{{0, 50}, {50, 50}}, 1e6}); }), "walls[0].thickness: a value in [0, 20] m, got 1000000");
+  EXPECT_EQ(refused([](Scene& s) { s.trains[0].period = 1e-6; }), "trains[0].period: a value in [1, 60] s, got 0.000001");
+  EXPECT_EQ(refused([](Scene& s) { s.trains[0].steepness = 1.0000001; }), "trains[0].steepness: a value in [0, 1], got 1.0000001");
+  EXPECT_EQ(refused([](Scene& s) { s.camera.position = {0, 0, 6}, s.camera.look_at = {0, 1e-3, 6}; }),
+            "camera.look_at: a point at least 0.01 m from camera.position, got 0.001");
+  // initial_rays is blamed for its own excess, and an automatic count over the cap on the insertion distance.
+  EXPECT_EQ(refused([](Scene& s) { s.dwt.initial_rays = 40000; }), "dwt.initial_rays: at most dwt.max_rays = 32768, got 40000");
+  EXPECT_EQ(refused([](Scene& s) { s.dwt.insertion_distance = 1e-3; }).rfind("dwt.insertion_distance: at least 0.0061", 0), 0u);
+}
+
+// validate cannot trace, but it can tell when the initial rays alone, crossing the domain at the
+// entry step, would already take more samples than the cap.
+TEST(Scene, ATraceLikelyToReachItsCapIsWarnedOf) {
+  Scene s = with_train();
+  s.trains.resize(1);
+  s.floor.base.kind = houle::FloorKind::planar_beach;
+  s.floor.base.shoreline = {0.0, 190.0};  // rays are traced
+  EXPECT_TRUE(houle::trace_cap_warnings(s).empty());
+  s.dwt.step = 0.005;  // 201 rays x 40001 steps
+  const std::vector<houle::Error> w = houle::trace_cap_warnings(s);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].field, "dwt.max_samples");
+  EXPECT_NE(w[0].message.find("201 initial rays cross the 200 m domain in 40001 steps"), std::string::npos) << w[0].message;
+  s.dwt.max_samples = 1u << 24;
+  EXPECT_TRUE(houle::trace_cap_warnings(s).empty());
 }
 
 // Validation takes its ranges from the key table: a number just outside its key's range is refused

@@ -15,6 +15,7 @@
 #include "houle/render/renderer.hpp"
 #include "houle/surface/surface_frame.hpp"
 #include "houle/sim/floating_objects.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "houle/sim/wave_rays.hpp"
@@ -36,11 +37,6 @@ Quality quality_preset(QualityPreset q) noexcept;
 /// The renderer's view of a scene: the sea floor as a height grid, walls as stone blocks, objects
 /// (floating ones at rest on still water: Animation moves them), sun, sky and water.
 RenderScene make_render_scene(const Scene& scene);
-
-/// The worst-case memory of building `scene` (traced rays at their caps, the sea's grids at `sea_cell`,
-/// the floor grid, `pixels` of image buffers) if it is over scene_limits::max_animation_bytes: an
-/// error saying what was expected. Animation::create checks it first; so should anything that traces.
-Expected<void> check_build_memory(const Scene& scene, float sea_cell, std::uint64_t pixels);
 
 /// Per-stage times of the last frame, ms.
 struct AnimationTimes {
@@ -67,6 +63,8 @@ class Animation {
   /// The camera of the last frame (before any: of time 0).
   const Camera& camera() const noexcept { return camera_; }
   double build_ms() const noexcept { return build_ms_; }
+  /// The build's cost as estimated once the rays were traced (build_cost.hpp), checked then.
+  const BuildCost& build_cost() const noexcept { return cost_; }
   /// Frames that built a capillary noise frame: 0 when the effect plan skips the noise.
   std::uint64_t noise_frames() const noexcept { return noise_frames_; }
 
@@ -87,6 +85,7 @@ class Animation {
   CapillaryFrame noise_{};
   AnimationTimes times_{};
   double build_ms_ = 0.0;
+  BuildCost cost_{};
   std::uint64_t noise_frames_ = 0;
 };
 

@@ -10,6 +10,7 @@
 // samples near a steep shoreline by at most 28 % of the local range (2-D weights: negative part
 // <= 0.28125); that moves the shoreline inside one cell, never lets a negative depth through as water.
 #pragma once
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -42,6 +43,11 @@ class Bathymetry {
   double length_scale() const noexcept { return length_scale_; }
 
   const SeaFloor& floor() const noexcept { return floor_; }
+  /// Shoals, bars and channels a sample visits, on average over the features' box (the build's cost).
+  double features_per_sample() const noexcept {
+    if (bins_.nx == 0) return double(floor_.shoals.size() + floor_.bars.size() + floor_.channels.size());
+    return double(bins_.items.size()) / double(std::size_t(bins_.nx) * bins_.ny);
+  }
 
  private:
   SeaFloor floor_;
@@ -51,6 +57,22 @@ class Bathymetry {
   // axis and each bar's normal as unit vectors (cos, sin).
   double shore_x_ = 0.0, shore_y_ = 1.0, blend_ = 0.0;
   std::vector<double> shoal_axis_, bar_normal_;
+
+  // With many features, a grid of bins over the box where the shoals and channels lie (and the bars'
+  // points): a point visits only the features whose support meets its bin, in the order of the full
+  // sum (so the depth is the same to the bit); outside the box only the bars, which run on for ever.
+  // Items are feature indices tagged by kind in their top two bits (shoal, bar, channel).
+  struct Bins {
+    double x0 = 0.0, y0 = 0.0, size_x = 0.0, size_y = 0.0;
+    std::uint32_t nx = 0, ny = 0;
+    std::vector<std::uint32_t> first;  // per bin, its items' start; one past the last at the end
+    std::vector<std::uint32_t> items;
+  };
+  Bins bins_;
+  void build_bins();
+  void add_shoal(std::size_t i, double x, double y, DepthSample& r) const noexcept;
+  void add_bar(std::size_t i, double x, double y, DepthSample& r) const noexcept;
+  void add_channel(std::size_t i, double x, double y, DepthSample& r) const noexcept;
 };
 
 }  // namespace houle

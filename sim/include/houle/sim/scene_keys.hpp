@@ -47,10 +47,18 @@ inline constexpr Range any{};
 inline constexpr Range positive{0.0, std::numeric_limits<double>::infinity(), true, false};
 inline constexpr Range non_negative{0.0, std::numeric_limits<double>::infinity()};
 inline constexpr Range unit_interval{0.0, 1.0};
+/// Positions (each coordinate): within scene_limits::max_coordinate of the origin, where the renderer's
+/// 32-bit floats still hold a centimetre.
+inline constexpr Range coordinate{-scene_limits::max_coordinate, scene_limits::max_coordinate};
+/// Angles in degrees: a turn either way.
+inline constexpr Range angle{-360.0, 360.0};
+/// Heights and depths of the floor and of structures: the deepest sea is 11 km deep.
+inline constexpr Range elevation{-11000.0, 11000.0};
 
 /// "> 0", ">= 0", "[1.25, 4]", "(0, 180)"; empty for `any`.
 std::string describe(const Range& range);
-/// Shortest text that reads back as the same number (std::to_chars), so a message never contradicts
+/// Shortest text that reads back as the same number (std::to_chars; plain digits up to 12 characters,
+/// 100000 rather than 1e+05), so a message never contradicts
 /// itself ("a value <= 1, got 1").
 std::string number_text(double v);
 std::string number_text(float v);

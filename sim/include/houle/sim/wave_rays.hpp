@@ -213,6 +213,22 @@ struct DwtBound {
 };
 DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& settings) noexcept;
 
+/// A train's front as the tracer starts it: its width across the direction of travel (m, after
+/// dwt.front_width), the domain's extent along that direction (m) and the initial rays; ray i enters
+/// on the line through `start` along the direction of travel, `start` + (i + 0.5) width / rays metres
+/// to its left (left: (-dy, dx)).
+struct FrontSize {
+  double width = 0.0, length = 0.0;
+  std::size_t rays = 0;
+  Point2 start{};
+};
+FrontSize front_size(const Scene& scene, std::size_t train, const DwtSettings& settings) noexcept;
+
+/// What a trace is likely to meet before it starts: a traced train whose initial rays, crossing the
+/// domain at dwt.step without a single insertion, would already take more than dwt.max_samples (field
+/// "dwt.max_samples", with the figures). A likelihood, not a certainty: rays may end early on land.
+std::vector<Error> trace_cap_warnings(const Scene& scene);
+
 /// Traces train `train` of a valid scene (Error if the scene or settings are invalid). With
 /// `threads` >= 2, steps over a large front of curving rays (64 or more) advance on two threads, and
 /// the final gather is shared; the result is bit-identical to one thread's.
