@@ -264,8 +264,13 @@ SceneObjects::FloorSpan SceneObjects::floor_span(const SceneRay& r, double t_min
   constexpr FloorSpan none{0.0, 0.0, 0, false};
   if (nx_ == 0) return none;
   // Only where the ray is inside the floor's height range (and above z_lo) can it meet the floor.
-  const double lo = std::max(z_min_, z_lo), hi = z_max_;
+  double lo = std::max(z_min_, z_lo), hi = z_max_;
   if (!(lo <= hi)) return none;
+  // The ray's z at the span's ends is rounded: a ray could end its span a rounding above a level floor
+  // at lo and miss it (the specks over flat sea beds). The span reaches a little past both heights.
+  const double pad = 1e-9 * (1.0 + std::abs(r.oz) + std::abs(z_min_) + std::abs(z_max_));
+  lo -= pad;
+  hi += pad;
   double t0 = t_min, t1 = std::min(t_max, max_walk_distance);
   if (r.dz > 0.0) {
     t0 = std::max(t0, (lo - r.oz) / r.dz);

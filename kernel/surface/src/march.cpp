@@ -12,6 +12,8 @@
 namespace houle {
 namespace {
 
+constexpr float slab_margin = 1e-3f;  // m
+
 /// Cone, knobs and noise: everything but the surface.
 void set_ray_params(detail::MarchContext& c, const MarchParams& p, float grid_min, float grid_max) noexcept {
   // Knobs are clamped to sane values here: the frame loop has no error path.
@@ -50,8 +52,11 @@ void set_ray_params(detail::MarchContext& c, const MarchParams& p, float grid_mi
     // smoothstep' <= 1.5 on the one octave fading at a time; |dlevel/dt| = pixel_angle / (cone ln k).
     c.level_rate = float(1.5 * double(top) / std::log(double(np.lacunarity)) * (1.0 + 1e-4));
   }
-  c.z_lo = grid_min - noise_total;
-  c.z_hi = grid_max + noise_total;
+  // The slab reaches a millimetre past the surface's bounds: a ray's z at the slab's end is rounded,
+  // and at exactly the bound it could end a rounding above a trough (or a flat sea, whose slab is
+  // empty) and miss it.
+  c.z_lo = grid_min - noise_total - slab_margin;
+  c.z_hi = grid_max + noise_total + slab_margin;
 }
 
 detail::MarchContext make_context(const SurfaceFrame& frame, const MarchParams& p) noexcept {
