@@ -49,8 +49,7 @@ houle::SurfaceFrameConfig small_frame_config() {
 }
 
 /// A frame of the two trains at time t, centred under (cx, cy). Nearly flat when `flat`: one 1 mm,
-/// 50 m swell (slopes below 1.3e-4), because the marcher's slab clip needs a slab of non-zero height
-/// (a perfectly flat sea without noise gives t_in == t_out and every ray misses).
+/// 50 m swell (slopes below 1.3e-4; StillWaterIsAMirrorWithAWaterline has the perfectly flat sea).
 houle::SurfaceFrame make_surface(double t, float cx = 0.0f, float cy = 0.0f, bool flat = false) {
   auto f = houle::SurfaceFrame::create(small_frame_config());
   EXPECT_TRUE(f.ok()) << (f.ok() ? "" : f.error().field + ": " + f.error().message);
@@ -361,6 +360,67 @@ TEST(Renderer, NoSpeckleOverFlatFloors) {
         EXPECT_EQ(isolated_dark_pixels(fb, 0.02f), 0) << depth << " m, sun at " << elevation_deg << " deg, spectral " << spectral;
       }
     }
+  }
+}
+
+TEST(Renderer, StillWaterIsAMirrorWithAWaterline) {
+  // No waves and no ripples: the sea is the plane z = 0, the simplest sea. It must be drawn: the sky
+  // mirrored near the horizon, a sphere half under water cut at its waterline (lit red above, seen
+  // through the water below), its reflection under the waterline.
+  constexpr std::uint32_t w = 96, h = 54;
+  auto surface = houle::SurfaceFrame::create(small_frame_config());
+  ASSERT_TRUE(surface.ok());
+  auto still = houle::make_gerstner_frame({}, 0.0);
+  ASSERT_TRUE(still.ok());
+  surface->begin_frame(0.0f, 0.0f);
+  houle::fill_gerstner(surface.value(), still.value());
+  RenderScene s;
+  s.floor.origin_x = s.floor.origin_y = -100.0f;
+  s.floor.cell = 5.0f;
+  s.floor.nx = s.floor.ny = 41;
+  s.floor.z.assign(41 * 41, -10.0f);
+  s.spheres.push_back({{0.0f, 20.0f, -1.0f}, 2.0f, {0.8f, 0.15f, 0.1f}});
+  s.sun_direction = {-0.6f, -0.5f, 0.62f};  // behind the camera's left shoulder
+  const Camera cam = make_cam({0.0f, 0.0f, 3.0f}, {0.0f, 20.0f, 0.0f}, w, h);
+  Renderer r = make_renderer(s, w, h, {}, 2);
+  Framebuffer fb(w, h), kr(w, h);
+  r.render(surface.value(), nullptr, nullptr, cam, fb);
+  const houle::RenderCounters counters = r.last_counters();
+  r.render(surface.value(), nullptr, nullptr, cam, kr, RenderView::sea_reflectance);
+  // Everything below the horizon but the sphere's cap above the water is sea.
+  const int horizon = int(std::lround(project(cam, {0.0f, 1e6f, 0.0f})[1]));
+  ASSERT_GT(horizon, 5);
+  ASSERT_LT(horizon, int(h) - 20);
+  EXPECT_EQ(counters.sea + counters.object + counters.sky, std::uint64_t(w) * h);
+  EXPECT_GT(counters.sea, std::uint64_t(w) * std::uint64_t(int(h) - horizon - 1) * 9 / 10);
+  EXPECT_GT(counters.object, 0u);
+  // The sky's mirror: near the horizon the sea reflects most of the sky (K_r >= 0.5 within 10 degrees
+  // of grazing) and adds the sea's own colour, so it is not darker than half the sky it mirrors.
+  for (int k = 2; k <= 4; ++k) {
+    for (int x : {5, 15, 80, 90}) {
+      const float sea = houle::luminance(pixel(fb, x, horizon + k)), sky = houle::luminance(pixel(fb, x, horizon - k));
+      EXPECT_GT(pixel(kr, x, horizon + k).r, 0.5f) << x << ", " << k;
+      EXPECT_GT(sea, 0.5f * sky) << x << ", " << k;
+      EXPECT_LT(sea, 1.2f * sky) << x << ", " << k;
+    }
+  }
+  // The waterline, down the sphere's centre column: the cap above water is the sphere in air (red),
+  // then, from the waterline's row, the sea (its K_r > 0), showing the cap's reflection and the
+  // sphere under the water.
+  const int column = int(w / 2);
+  const int top = int(std::lround(project(cam, {0.0f, 20.0f, 1.0f})[1]));
+  const int waterline = int(std::lround(project(cam, {0.0f, 20.0f - std::sqrt(3.0f), 0.0f})[1]));
+  ASSERT_GT(waterline, top + 2);
+  for (int y = top + 1; y < waterline - 1; ++y) {
+    EXPECT_EQ(pixel(kr, column, y).r, 0.0f) << y;
+    EXPECT_GT(pixel(fb, column, y).r, 2.0f * pixel(fb, column, y).b) << y;
+  }
+  for (int y = waterline + 1; y < waterline + 4; ++y) EXPECT_GT(pixel(kr, column, y).r, 0.0f) << y;
+  // Below the waterline the cap's reflection and the sphere under the water show: the sea there is
+  // not the open sea beside it.
+  for (int y = waterline + 1; y < waterline + 4; ++y) {
+    const LinearRgb under = pixel(fb, column, y), beside = pixel(fb, 5, y);
+    EXPECT_GT(std::abs(under.r - beside.r), 0.2f * beside.r) << y;
   }
 }
 
