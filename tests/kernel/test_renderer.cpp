@@ -424,6 +424,51 @@ TEST(Renderer, StillWaterIsAMirrorWithAWaterline) {
   }
 }
 
+TEST(Renderer, SunBelowTheHorizonGivesTwilightThenNight) {
+  // The frame's mean luminance (linear) as the sun goes down: daylight, sunset, twilight falling by
+  // about a factor 10 per 2.5 degrees and turning blue, then night. A sun below the horizon lights
+  // nothing directly: the box's sunny face is no brighter than its shaded one.
+  const houle::SurfaceFrame s = make_surface(3.0);
+  const houle::CapillaryFrame n = make_noise(3.0);
+  const Camera cam = default_cam();
+  const auto frame = [&](float elevation_deg) {
+    RenderScene scene = test_scene();
+    const float e = elevation_deg * 0.0174533f;
+    scene.sun_direction = {0.8f * std::cos(e), -0.6f * std::cos(e), std::sin(e)};
+    Renderer r = make_renderer(scene, W, H, {}, 1);
+    Framebuffer fb(W, H);
+    r.render(s, &n, nullptr, cam, fb);
+    return fb;
+  };
+  const auto mean = [](const Framebuffer& fb) {
+    double sum = 0.0;
+    for (int y = 0; y < fb.height; ++y) {
+      for (int x = 0; x < fb.width; ++x) sum += houle::luminance(pixel(fb, x, y));
+    }
+    return sum / (double(fb.width) * fb.height);
+  };
+  const double day = mean(frame(35.0f));
+  double last = mean(frame(0.0f));
+  for (float e : {-1.0f, -2.5f, -5.0f, -7.5f, -10.0f, -20.0f}) {
+    const double m = mean(frame(e));
+    EXPECT_LT(m, last) << e;  // darker at every step down
+    last = m;
+  }
+  EXPECT_LT(mean(frame(-5.0f)), 0.05 * mean(frame(0.0f)));
+  EXPECT_LT(mean(frame(-10.0f)), 1e-3 * day);
+  EXPECT_LT(mean(frame(-90.0f)), 1e-3 * day);
+  EXPECT_GT(mean(frame(-90.0f)), 0.0);  // night is dark, not black
+  // Twilight is blue: the sky's blue over red grows as the sun goes down.
+  const LinearRgb sunset = pixel(frame(0.5f), int(W) / 2, 2), dusk = pixel(frame(-6.0f), int(W) / 2, 2);
+  EXPECT_GT(dusk.b / dusk.r, 1.5f * sunset.b / sunset.r);
+  // No sunlight from below the horizon: a box face turned to the set sun's azimuth is lit like the
+  // others, by the sky alone. The box's east face (+x, towards the sun's azimuth) against its south face.
+  const Framebuffer night = frame(-8.0f);
+  const auto east = project(cam, {-10.0f, 20.0f, 1.0f}), south = project(cam, {-12.0f, 18.0f, 1.0f});
+  const LinearRgb e = pixel(night, int(east[0]), int(east[1])), so = pixel(night, int(south[0]), int(south[1]));
+  EXPECT_LT(houle::luminance(e), 1.5f * houle::luminance(so));
+}
+
 TEST(Renderer, FresnelStraightDownAndGrazing) {
   RenderScene scene = test_scene();
   scene.boxes.clear();

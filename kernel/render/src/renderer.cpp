@@ -139,7 +139,7 @@ struct Renderer::Impl {
   Vec3 sun{0.0f, 0.0f, 1.0f};
   LinearRgb sun_rgb;          ///< a white surface facing the sun reflects this
   LinearRgb ambient;          ///< a white horizontal surface reflects this of the sky's light
-  float sky_scale = 0.0f;     ///< sky kcd/m^2 -> relative radiance
+  LinearRgb sky_scale;        ///< sky kcd/m^2 -> relative radiance (dimmed and tinted after sunset)
   Vec3 sun_water{0.0f, 0.0f, 1.0f};  ///< towards the sun under a flat sea (refracted)
   LinearRgb sun_water_rgb;    ///< the sun's light after entering the sea
   LinearRgb ambient_water;    ///< the sky's light after entering the sea
@@ -457,14 +457,18 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
 
   // Light. The relative unit is E_ref / pi (kcd/m^2) with E_ref the sun's illuminance (floored): a
   // white Lambertian surface facing the sun then has luminance E_sun / E_ref (1 for a sun above ~15 deg).
+  // A sun below the horizon lights nothing directly (its disc sets over its diameter), and the sky of a
+  // sun on the horizon is dimmed and turns blue with the sun's depression (docs/rendering.md 6.4).
   Impl& r = *impl;
   r.sun = sky->sun_direction();
+  const float elevation = std::asin(std::clamp(r.sun[2], -1.0f, 1.0f));
   const LinearRgb transmittance = sun_transmittance(double(r.sun[2]), double(scene.turbidity));
   const double e_sun = solar_constant_klx * double(luminance(transmittance));
   const double e_ref = std::max(e_sun, min_reference_klx);
-  r.sun_rgb = transmittance * float(solar_constant_klx / e_ref);
-  r.sky_scale = float(std::numbers::pi / e_ref);
-  r.ambient = sky_irradiance_klx(sky.value()) * float(1.0 / e_ref);
+  const LinearRgb twilight = twilight_sky_factor(elevation);
+  r.sun_rgb = transmittance * float(solar_constant_klx / e_ref * double(sun_disc_above_horizon(elevation)));
+  r.sky_scale = twilight * float(std::numbers::pi / e_ref);
+  r.ambient = sky_irradiance_klx(sky.value()) * twilight * float(1.0 / e_ref);
   if (r.sun[2] > 0.0f) {
     const ReflectRefract sun_in = reflect_refract({-r.sun[0], -r.sun[1], -r.sun[2]}, {0.0f, 0.0f, 1.0f});
     r.sun_water = {-sun_in.refracted[0], -sun_in.refracted[1], -sun_in.refracted[2]};
