@@ -154,7 +154,7 @@ void Animation::render(double time_s, Framebuffer& out) noexcept {
       noise_ = f.value();
       noise = &noise_;
       ++noise_frames_;
-      const float top = float(noise_params_->max_octaves);
+      const float top = capillary_top_level(*noise_params_);
       surface_.set_noise_bounds(capillary_height_bound(*noise_params_, top), capillary_slope_bound(*noise_params_, top));
     }
   }

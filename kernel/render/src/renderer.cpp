@@ -541,7 +541,7 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   r.camera_under = camera.position[2] < surface.height_at(camera.position[0], camera.position[1]);
   // Below the sea's slab a primary ray from above has crossed the sea: the floor matters only above it.
   const float grid_min = surface.view().global.h_min;
-  const float noise_bound = r.noise != nullptr ? capillary_height_bound(r.noise->params, float(r.noise->octaves)) : 0.0f;
+  const float noise_bound = r.noise != nullptr ? capillary_height_bound(r.noise->params, capillary_top_level(r.noise->params)) : 0.0f;
   r.primary_floor_lo = r.camera_under ? -std::numeric_limits<double>::infinity()
                                       : double(std::min(surface.z_min(), grid_min - noise_bound)) - 0.01;
   for (auto& s : r.scratch) {
