@@ -20,7 +20,7 @@ struct RenderOptions {
   bool default_out = true;
   std::optional<std::string> raw;
   std::optional<PixelFormat> format;  ///< raw: default rgb24; images: only rgbf32 (32-bit float files)
-  float exposure = 1.0f;
+  std::optional<float> exposure;  ///< none: the scene's (Renderer::display_exposure)
   bool skip_existing = false;
   bool realtime = false, quiet = false, verbose = false;
 };

@@ -218,7 +218,7 @@ TEST(Twilight, SkyDimsByCivilTwilightsFallThenStaysAtNight) {
   for (float d : {9.0f, 18.0f, 90.0f}) {
     const houle::LinearRgb f = houle::twilight_sky_factor(-d * degree);
     EXPECT_NEAR(lum(f), 3e-4f, 3e-6f) << d;
-    EXPECT_GT(f.b, 3.0f * f.r) << d;
+    EXPECT_GT(f.b, 2.0f * f.r) << d;
   }
   // The sun's disc sets over its diameter.
   EXPECT_EQ(houle::sun_disc_above_horizon(houle::sun_angular_radius_rad), 1.0f);

@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "houle/render/colour.hpp"
+#include "houle/render/framebuffer.hpp"
 #include "houle/sim/animation.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/surface/camera.hpp"
@@ -71,6 +74,108 @@ TEST(Picture, NoSeamOrSpeckleBeyondTheDomainsEdge) {
   ASSERT_GT(edge, horizon + 20);
   ASSERT_LT(edge, int(h) / 2);
   EXPECT_EQ(isolated_dark_pixels(fb, horizon + 3, edge + 3), 0);
+}
+
+/// The frame as shown: rgb24 through the display transform at the scene's own exposure. Pixels whose
+/// radiance is more than 8 times the display's white (the sun's disc and its glint, nothing else in
+/// these scenes) are marked in `sun` when it is given.
+std::vector<std::uint8_t> shown(const Animation& a, const Framebuffer& fb, std::vector<bool>* sun = nullptr) {
+  std::vector<std::uint8_t> out(std::size_t(fb.width) * std::size_t(fb.height) * 3);
+  if (sun != nullptr) {
+    sun->assign(out.size() / 3, false);
+    for (std::size_t i = 0; i < sun->size(); ++i) {
+      const houle::LinearRgb c{fb.rgb[3 * i], fb.rgb[3 * i + 1], fb.rgb[3 * i + 2]};
+      (*sun)[i] = houle::luminance(c) * a.renderer().display_exposure() > 8.0f;
+    }
+  }
+  houle::encode_frame(fb, houle::ToneMap{a.renderer().display_exposure()}, houle::PixelFormat::rgb24,
+                      std::as_writable_bytes(std::span(out)));
+  return out;
+}
+
+struct Shown {
+  double mean = 0.0;        ///< of the 8-bit luma
+  double at_255 = 0.0;      ///< share of pixels with a channel at 255, outside the sun and its glint
+};
+Shown measure(const std::vector<std::uint8_t>& px, std::size_t first_row, std::size_t rows, std::size_t width,
+              const std::vector<bool>* sun = nullptr) {
+  Shown m;
+  for (std::size_t i = first_row * width; i < (first_row + rows) * width; ++i) {
+    const std::uint8_t* p = &px[3 * i];
+    m.mean += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    m.at_255 += (p[0] == 255 || p[1] == 255 || p[2] == 255) && (sun == nullptr || !(*sun)[i]);
+  }
+  m.mean /= double(rows * width);
+  m.at_255 /= double(rows * width);
+  return m;
+}
+
+TEST(Picture, TheDefaultExposureNeitherWashesOutNorClips) {
+  // The built-in coast's frame 30 averaged 194/255 and a sunset's sky 223-234/255 (issue 21). At the
+  // scene's own exposure a day frame sits in the middle of the range, at most 1 % of its pixels
+  // outside the sun's glint have a channel at 255, and a sunset sky is not white.
+  constexpr std::uint32_t w = 160, h = 90;
+  houle::Scene s = houle::builtin_coast();
+  {
+    Animation a = make_animation(s, w, h);
+    Framebuffer fb(w, h);
+    a.render(1.0, fb);
+    std::vector<bool> sun;
+    const std::vector<std::uint8_t> px = shown(a, fb, &sun);
+    const Shown m = measure(px, 0, h, w, &sun);
+    EXPECT_GT(m.mean, 100.0);
+    EXPECT_LT(m.mean, 175.0);
+    EXPECT_LE(m.at_255, 0.01);
+  }
+  s.sun.elevation_deg = 4.0;
+  Animation a = make_animation(s, w, h);
+  Framebuffer fb(w, h);
+  a.render(1.0, fb);
+  const int horizon = int(image_row(a.camera(), {140.0f, -1e6f, 0.0f}));
+  ASSERT_GT(horizon, 20);
+  std::vector<bool> sun;
+  const std::vector<std::uint8_t> px = shown(a, fb, &sun);
+  const Shown sky = measure(px, 0, std::size_t(horizon - 2), w, &sun);
+  EXPECT_LT(sky.mean, 200.0);
+  EXPECT_LE(sky.at_255, 0.01);
+}
+
+TEST(Picture, DuskAndNightAreDarkerThanDay) {
+  // A simple sea (flat 20 m floor, one swell, no tracing) shown at its own exposure as the sun goes
+  // down: each step darker down to night (10 degrees below: the night sky's floor), night dark but not
+  // black; the sun at the nadir is night too.
+  houle::Scene s;
+  s.domain = {0.0, 0.0, 200.0, 200.0};
+  s.floor.base.kind = houle::FloorKind::flat;
+  s.floor.base.depth = 20.0;
+  houle::WaveTrain swell;
+  swell.direction_deg = 90.0;
+  swell.period = 6.0;
+  swell.amplitude = 0.3;
+  s.trains.push_back(swell);
+  s.camera = houle::ViewCamera{{100.0, 0.0, 5.0}, {100.0, 100.0, 0.0}, 50.0};
+  constexpr std::uint32_t w = 96, h = 54;
+  double last = 256.0;
+  double night = 0.0;
+  for (double e : {35.0, 4.0, -2.0, -5.0, -10.0, -90.0}) {
+    s.sun = houle::Sun{200.0, e};
+    Animation a = make_animation(s, w, h);
+    Framebuffer fb(w, h);
+    a.render(1.0, fb);
+    const Shown m = measure(shown(a, fb), 0, h, w);
+    if (e == 35.0) {
+      EXPECT_GT(m.mean, 100.0);
+    }
+    if (e == -10.0) night = m.mean;
+    if (e == -90.0) {
+      EXPECT_LT(m.mean, 1.25 * night);
+      EXPECT_LT(m.mean, 40.0);
+      EXPECT_GT(m.mean, 3.0);
+    } else {
+      EXPECT_LT(m.mean, last) << e;
+    }
+    last = m.mean;
+  }
 }
 
 }  // namespace

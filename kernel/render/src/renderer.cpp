@@ -79,6 +79,28 @@ LinearRgb sun_transmittance(double cos_zenith, double turbidity) {
   return {t[0], t[1], t[2]};
 }
 
+/// The display exposure for a sky (docs/rendering.md 4.5): the log-average luminance L_a of the sky
+/// from the horizon to 40 degrees up (what a coastal view shows, directly and in the sea's mirror), in
+/// the renderer's units (`scale` per channel), is brought to display_key; a sky dimmer than
+/// full_adaptation_kcd (an early dusk) is compensated for only two thirds of its fall (in log), so
+/// dusk and night stay dark. `kcd_per_unit` converts the units to kcd/m^2.
+float sky_exposure(const PreethamSky& sky, LinearRgb scale, double kcd_per_unit) {
+  constexpr double display_key = 0.18, full_adaptation_kcd = 1.0;
+  constexpr int rows = 8, columns = 32;
+  double sum = 0.0;
+  for (int i = 0; i < rows; ++i) {
+    const double e = (i + 0.5) / rows * 40.0 * std::numbers::pi / 180.0;
+    for (int j = 0; j < columns; ++j) {
+      const double a = (j + 0.5) / columns * 2.0 * std::numbers::pi;
+      const Vec3 v{float(std::cos(e) * std::cos(a)), float(std::cos(e) * std::sin(a)), float(std::sin(e))};
+      sum += std::log(std::max(double(luminance(sky.radiance(v) * scale)), 1e-30));
+    }
+  }
+  const double l_a = std::exp(sum / (rows * columns));
+  const double adaptation = std::cbrt(std::min(1.0, l_a * kcd_per_unit / full_adaptation_kcd));
+  return float(display_key / l_a * adaptation);
+}
+
 /// Sky irradiance on a horizontal surface (klx per channel: kcd/m^2 times sr), midpoint rule.
 LinearRgb sky_irradiance_klx(const PreethamSky& sky) {
   constexpr int rows = 32, columns = 64;
@@ -145,6 +167,7 @@ struct Renderer::Impl {
   LinearRgb ambient_water;    ///< the sky's light after entering the sea
   LinearRgb sea_lit;          ///< I_sea for this lighting
   float sea_illumination = 0.0f;  ///< luminance on a white horizontal surface: scales I_sea
+  float exposure = 1.0f;          ///< display_exposure()
   std::array<float, 3> rgb_absorption{};
 
   std::unique_ptr<detail::ThreadPool> pool;
@@ -475,6 +498,7 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
     r.sun_water_rgb = r.sun_rgb * (1.0f - sun_in.reflectance);
   }
   r.ambient_water = r.ambient * sky_water_transmission;
+  r.exposure = sky_exposure(sky.value(), r.sky_scale, e_ref / std::numbers::pi);
   r.sea_illumination = luminance(r.sun_rgb) * std::max(r.sun[2], 0.0f) + luminance(r.ambient);
   r.sea_lit = r.water->sea_colour() * r.sea_illumination;
 
@@ -492,6 +516,7 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 Renderer::~Renderer() = default;
 
+float Renderer::display_exposure() const noexcept { return impl_->exposure; }
 const FrameTimes& Renderer::last_times() const noexcept { return impl_->times; }
 const RenderCounters& Renderer::last_counters() const noexcept { return impl_->counters; }
 std::uint32_t Renderer::width() const noexcept { return impl_->width; }

@@ -193,9 +193,9 @@ LinearRgb twilight_sky_factor(float sun_elevation_rad) noexcept {
   constexpr float per_degree = -0.4f;  // log10 of the sky's luminance per degree of depression
   constexpr float night = 3e-4f;
   constexpr float blue_depression_deg = 6.0f;  // the tint is whole at the end of civil twilight
-  // The blue hour's tint, luminance 1: the sky's red and green fade faster than its blue once the sun's
-  // light reaches it only through the ozone layer's Chappuis band.
-  constexpr LinearRgb blue{0.61f, 1.02f, 1.97f};
+  // The blue hour's tint, luminance 1: the sky's red fades faster than its blue once the sun's light
+  // reaches it only through the ozone layer's Chappuis band; green is kept, so the glow stays orange.
+  constexpr LinearRgb blue{0.82f, 0.98f, 1.74f};
   const float depression_deg = std::min(-sun_elevation_rad * float(180.0 / pi), 90.0f);
   const float level = std::max(std::pow(10.0f, per_degree * depression_deg), night);
   const float u = std::min(depression_deg / blue_depression_deg, 1.0f);

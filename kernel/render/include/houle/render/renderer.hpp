@@ -158,6 +158,10 @@ class Renderer {
   /// render()): `sampler` must allow concurrent calls. The frame is the same as fill() gives.
   void fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept;
 
+  /// The exposure (ToneMap::exposure) this scene's sun and sky ask for, fixed per scene so that frame n
+  /// stays a pure function of the scene and n (docs/rendering.md 4.5).
+  float display_exposure() const noexcept;
+
   const FrameTimes& last_times() const noexcept;
   const RenderCounters& last_counters() const noexcept;
   std::uint32_t width() const noexcept;
