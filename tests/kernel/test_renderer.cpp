@@ -543,6 +543,73 @@ TEST(Renderer, SunGlintInFrontIsTheBrightestThing) {
   EXPECT_GT(sea_max, 2.0f * sky_max);
 }
 
+TEST(Renderer, GlintAtOneSampleIsTheSupersampledGlint) {
+  // The sun's glitter path at one sample per pixel against 8 samples (film): the lobe through the
+  // pixel's slope distribution must give each pixel about the average of its sub-pixel glints, not a
+  // point sample of them (sparkles that flicker from frame to frame). Measured as the RMS difference
+  // of the displayed glint region, relative to its mean.
+  RenderScene scene = test_scene();
+  scene.sun_direction = {0.0f, 1.0f, 0.2f};  // low sun straight ahead
+  const houle::SurfaceFrame s = make_surface(3.0);
+  const houle::CapillaryFrame n = make_noise(3.0);
+  constexpr std::uint32_t w = 160, h = 90;
+  const Camera cam = make_cam({0.0f, 0.0f, 4.0f}, {0.0f, 60.0f, 4.0f - 60.0f * std::tan(6.0f * 0.0174533f)}, w, h);
+  RenderQuality one, eight;
+  eight.samples_per_pixel = 8;
+  Renderer a = make_renderer(scene, w, h, one, 2), b = make_renderer(scene, w, h, eight, 2);
+  Framebuffer fa(w, h), fb(w, h);
+  a.render(s, &n, nullptr, cam, fa);
+  b.render(s, &n, nullptr, cam, fb);
+  const houle::ToneMap tm{0.5f};
+  double diff2 = 0.0, sum = 0.0;
+  int count = 0;
+  for (int y = int(h) / 2; y < int(h); ++y) {
+    for (int x = int(w) / 3; x < 2 * int(w) / 3; ++x) {  // the glitter path, below the sun
+      const float da = houle::luminance(houle::tone_map(pixel(fa, x, y), tm));
+      const float db = houle::luminance(houle::tone_map(pixel(fb, x, y), tm));
+      diff2 += double(da - db) * double(da - db);
+      sum += db;
+      ++count;
+    }
+  }
+  const double rel = std::sqrt(diff2 / count) / (sum / count);
+  std::printf("glint at 1 sample against 8: relative RMS difference %.3f\n", rel);
+  EXPECT_LT(rel, 0.1);
+}
+
+TEST(Renderer, ObjectsShadowTheSeaWhereTheSunPutsThem) {
+  // A pillar standing in still water, 3 m above it and 1 m (or 50 m) below, the sun 45 degrees up in
+  // the east: its shadow falls west, 3 m through the air and on through the water. Looking straight
+  // down at a point 2 m west of the pillar (in the shadow of its part above the water) and at a point
+  // 4 m further north (in no shadow): the shadowed one is darker, over a shallow floor (whose shadow
+  // drew only the pillar's submerged foot, a thin band at its base) and over deep water (whose own
+  // light the sun no longer reaches there).
+  auto surface = houle::SurfaceFrame::create(small_frame_config());
+  ASSERT_TRUE(surface.ok());
+  auto still = houle::make_gerstner_frame({}, 0.0);
+  ASSERT_TRUE(still.ok());
+  surface->begin_frame(-3.0f, 20.0f);
+  houle::fill_gerstner(surface.value(), still.value());
+  for (float depth : {1.0f, 50.0f}) {
+    RenderScene s;
+    s.floor.origin_x = s.floor.origin_y = -100.0f;
+    s.floor.cell = 5.0f;
+    s.floor.nx = s.floor.ny = 41;
+    s.floor.z.assign(41 * 41, -depth);
+    s.floor.sand = {0.8f, 0.75f, 0.6f};
+    s.boxes.push_back({{0.0f, 20.0f, 1.0f}, {1.0f, 1.0f, 2.0f}, 0.0f, {0.5f, 0.5f, 0.5f}});
+    s.sun_direction = {0.7071f, 0.0f, 0.7071f};
+    Renderer r = make_renderer(s, W, H, {}, 1);
+    const auto centre = [&](float x, float y) {
+      Framebuffer fb(W, H);
+      r.render(surface.value(), nullptr, nullptr, make_cam({x, y, 10.0f}, {x, y, 0.0f}, W, H, {0.0f, 1.0f, 0.0f}), fb);
+      return houle::luminance(pixel(fb, int(W) / 2, int(H) / 2));
+    };
+    const float shadow = centre(-3.0f, 20.0f), open = centre(-3.0f, 24.0f);
+    EXPECT_LT(shadow, 0.7f * open) << depth << " m: " << shadow << " against " << open;
+  }
+}
+
 TEST(Renderer, ClearWaterShowsTheFloorDeepWaterHidesIt) {
   // Looking straight down through 5 m of pure water onto a white floor, and through 500 m.
   RenderScene shallow;

@@ -167,6 +167,8 @@ struct Renderer::Impl {
   LinearRgb ambient_water;    ///< the sky's light after entering the sea
   LinearRgb sea_lit;          ///< I_sea for this lighting
   float sea_illumination = 0.0f;  ///< luminance on a white horizontal surface: scales I_sea
+  float sea_shade_illumination = 0.0f;  ///< the same in an object's shadow: the sky's share alone
+  float casters_top = -std::numeric_limits<float>::infinity();  ///< m, highest point of a box or sphere
   float exposure = 1.0f;          ///< display_exposure()
   std::array<float, 3> rgb_absorption{};
 
@@ -197,9 +199,11 @@ struct Renderer::Impl {
   LinearRgb sky_radiance(const Vec3& d) const noexcept { return sky.lookup(d) * sky_scale; }
   LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept;
   LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept;
-  LinearRgb through_water(LinearRgb object, float distance, float light_path) const noexcept;
+  LinearRgb through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept;
   LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept;
-  LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept;
+  LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
+                        float illumination) const noexcept;
+  bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
   float sun_path_in_water(const Vec3& p) const noexcept {
     return sun_water[2] > 0.0f ? std::max(0.0f, -p[2]) / sun_water[2] : 0.0f;
   }
@@ -228,12 +232,17 @@ LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const
   LinearRgb light = ambient_water * (0.5f * (1.0f + n[2]));
   const float cos_sun = dot(n, sun_water);
   if (cos_sun > 0.0f && sun_water[2] > 0.0f) {
-    // Shadows of boxes and spheres up to the still sea level. Not of the floor: the refracted sun is
-    // within 48 degrees of the zenith, steeper than sea beds, and a walk per pixel would cost as much as
-    // the refracted ray itself. The waves' own focusing and shadowing are ignored.
+    // Shadows of boxes and spheres along the refracted sun up to the still sea level, and on from there
+    // along the sun in air (docs/rendering.md 3.5): a jetty's shadow on the sea bed is the shadow of the
+    // whole jetty, not of its submerged foot alone (which drew a thin line offset from it). Not of the
+    // floor: the refracted sun is within 48 degrees of the zenith, steeper than sea beds, and a walk per
+    // pixel would cost as much as the refracted ray itself. The waves' own focusing and shadowing are
+    // ignored.
     const float offset = 1e-3f + 1e-4f * h.t;
-    const double reach = double(std::max(0.0f, -p[2])) / double(sun_water[2]);
-    const bool lit = !quality.shadows || !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
+    const float depth = std::max(0.0f, -p[2]);
+    const double reach = double(depth) / double(sun_water[2]);
+    bool lit = !quality.shadows || !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
+    if (lit) lit = sunlit(along(p, sun_water, depth / sun_water[2]), sun, offset);
     if (lit) light = light + sun_water_rgb * cos_sun;
   }
   return albedo * light;
@@ -241,18 +250,20 @@ LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const
 
 /// Eq. 12 for `object` seen through `distance` m of water, with the object's light having come down
 /// `light_path` m of water itself (docs/rendering.md 3.4's refinement, exact in the LUT because K is a
-/// per-wavelength exponential): K(d + s) I_obj + (1 - K(d)) I_sea.
-LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float light_path) const noexcept {
+/// per-wavelength exponential): K(d + s) I_obj + (1 - K(d)) I_sea, I_sea lit by `illumination`
+/// (sea_illumination, or less in an object's shadow).
+LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept {
   if (quality.spectral_absorption) {
-    const LinearRgb sum = water->absorbed(object, distance + light_path) + water->sea_part(distance) * sea_illumination;
+    const LinearRgb sum = water->absorbed(object, distance + light_path) + water->sea_part(distance) * illumination;
     return gamut_map_to_grey(sum);
   }
+  const LinearRgb sea = water->sea_colour() * illumination;
   const float k[3] = {std::exp(-rgb_absorption[0] * distance), std::exp(-rgb_absorption[1] * distance),
                       std::exp(-rgb_absorption[2] * distance)};
   const float ks[3] = {std::exp(-rgb_absorption[0] * light_path), std::exp(-rgb_absorption[1] * light_path),
                        std::exp(-rgb_absorption[2] * light_path)};
-  return {object.r * k[0] * ks[0] + sea_lit.r * (1.0f - k[0]), object.g * k[1] * ks[1] + sea_lit.g * (1.0f - k[1]),
-          object.b * k[2] * ks[2] + sea_lit.b * (1.0f - k[2])};
+  return {object.r * k[0] * ks[0] + sea.r * (1.0f - k[0]), object.g * k[1] * ks[1] + sea.g * (1.0f - k[1]),
+          object.b * k[2] * ks[2] + sea.b * (1.0f - k[2])};
 }
 
 /// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky.
@@ -266,12 +277,22 @@ LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, fl
 
 /// Radiance arriving at p from direction d through water: eq. 12 on the floor or an object within
 /// reach, I_sea otherwise.
-LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
+LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
+                                       float illumination) const noexcept {
   const SurfaceHit h =
       objects.intersect(make_ray(p, offset_normal, offset, d), 0.0, double(std::min(underwater_reach, max_distance)));
-  if (h.kind == HitKind::none) return sea_lit;
+  if (h.kind == HitKind::none) return water->sea_colour() * illumination;
   const Vec3 q = along(p, d, h.t);
-  return through_water(lit_in_water(h, q, d), h.t, sun_path_in_water(q));
+  return through_water(lit_in_water(h, q, d), h.t, sun_path_in_water(q), illumination);
+}
+
+/// Whether the sun reaches the sea's surface at p past the boxes and spheres (docs/rendering.md 3.5):
+/// its glint and its share of the water's light are in their shadow otherwise. The ray goes only as
+/// far as the highest object.
+bool Renderer::Impl::sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept {
+  if (!quality.shadows || !(sun[2] > 0.0f) || !(casters_top > p[2])) return true;
+  const double reach = double(casters_top - p[2]) / double(sun[2]) + 1.0;
+  return !objects.occluded(make_ray(p, offset_normal, offset, sun), 0.0, reach, false);
 }
 
 LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept {
@@ -292,7 +313,7 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     ++c.object;
     const Vec3 p = along(camera.position, d, h.t);
     if (!camera_under) return lit_in_air(h, p, d);
-    return through_water(lit_in_water(h, p, d), h.t, sun_path_in_water(p));
+    return through_water(lit_in_water(h, p, d), h.t, sun_path_in_water(p), sea_illumination);
   }
   ++c.sea;
   const float t = s.a[Scratch::t][i];
@@ -314,8 +335,11 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
 
   if (status == MarchStatus::hit) {
     lift(r);
+    // In an object's shadow the sea loses the glint and the sun's share of its own light.
+    const bool lit = sunlit(p, n, offset);
     const LinearRgb reflected = trace_air(p, n, offset, r);
-    const LinearRgb transmitted = kr < 1.0f ? trace_water(p, n_down, offset, tr) : LinearRgb{};
+    const LinearRgb transmitted =
+        kr < 1.0f ? trace_water(p, n_down, offset, tr, lit ? sea_illumination : sea_shade_illumination) : LinearRgb{};
     // The sun's glint, widened by the slope variance of the octaves the LOD left out at this pixel.
     float glint = 0.0f;
     const Vec3 v{-d[0], -d[1], -d[2]};
@@ -325,21 +349,18 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     const float cos_h = dot(n, half);
     // Skip the lobe where it is below e^-30 of its peak (tan^2 / 2 sigma^2 > 30): most of the sea.
     if (cos_h > 0.0f && (1.0f - cos_h * cos_h) < 60.0f * (variance + sun_disc_slope_variance) * cos_h * cos_h) {
-      glint = pi * sun_glint(n, v, sun, variance);
-      if (glint > 0.0f && quality.shadows && objects.occluded(make_ray(p, n, offset, sun), 0.0, double(max_distance))) {
-        glint = 0.0f;
-      }
+      glint = lit ? pi * sun_glint(n, v, sun, variance) : 0.0f;
     }
     return reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
   }
   // From below: the interface sent r back down into the sea and tr (outside Snell's window: none) up.
-  const LinearRgb reflected = trace_water(p, n_down, offset, r);
+  const LinearRgb reflected = trace_water(p, n_down, offset, r, sea_illumination);
   LinearRgb transmitted{};
   if (kr < 1.0f) {
     lift(tr);
     transmitted = trace_air(p, n, offset, tr);
   }
-  return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f);
+  return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
 }
 
 void Renderer::Impl::shade_sample(Scratch& s) noexcept {
@@ -500,7 +521,10 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
   r.ambient_water = r.ambient * sky_water_transmission;
   r.exposure = sky_exposure(sky.value(), r.sky_scale, e_ref / std::numbers::pi);
   r.sea_illumination = luminance(r.sun_rgb) * std::max(r.sun[2], 0.0f) + luminance(r.ambient);
+  r.sea_shade_illumination = luminance(r.ambient);
   r.sea_lit = r.water->sea_colour() * r.sea_illumination;
+  for (const RenderBox& b : scene.boxes) r.casters_top = std::max(r.casters_top, b.center[2] + b.half_extent[2]);
+  for (const RenderSphere& s : scene.spheres) r.casters_top = std::max(r.casters_top, s.center[2] + s.radius);
 
   auto pool = detail::ThreadPool::create(threads);
   if (!pool) return pool.error();
