@@ -46,6 +46,7 @@ RenderScene make_render_scene(const Scene& scene) {
   if (!bathymetry.uniform() || bathymetry.depth(0.0, 0.0) < 200.0) {
     const Domain& d = scene.domain;
     FloorGrid& f = r.floor;
+    f.sand = scene.floor.base.sand_colour;
     f.origin_x = float(d.x_min);
     f.origin_y = float(d.y_min);
     f.cell = float(floor_cell);

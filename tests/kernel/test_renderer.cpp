@@ -62,6 +62,17 @@ houle::SurfaceFrame make_surface(double t, float cx = 0.0f, float cy = 0.0f, boo
   return std::move(f.value());
 }
 
+/// The still sea, z = 0 everywhere (no trains, no ripples), centred under (cx, cy).
+houle::SurfaceFrame still_surface(float cx = 0.0f, float cy = 0.0f) {
+  auto f = houle::SurfaceFrame::create(small_frame_config());
+  EXPECT_TRUE(f.ok());
+  auto still = houle::make_gerstner_frame({}, 0.0);
+  EXPECT_TRUE(still.ok());
+  f->begin_frame(cx, cy);
+  houle::fill_gerstner(f.value(), still.value());
+  return std::move(f.value());
+}
+
 houle::CapillaryFrame make_noise(double t) {
   auto n = houle::make_capillary_frame(houle::CapillaryParams{}, t);
   EXPECT_TRUE(n.ok());
@@ -368,12 +379,7 @@ TEST(Renderer, StillWaterIsAMirrorWithAWaterline) {
   // mirrored near the horizon, a sphere half under water cut at its waterline (lit red above, seen
   // through the water below), its reflection under the waterline.
   constexpr std::uint32_t w = 96, h = 54;
-  auto surface = houle::SurfaceFrame::create(small_frame_config());
-  ASSERT_TRUE(surface.ok());
-  auto still = houle::make_gerstner_frame({}, 0.0);
-  ASSERT_TRUE(still.ok());
-  surface->begin_frame(0.0f, 0.0f);
-  houle::fill_gerstner(surface.value(), still.value());
+  const houle::SurfaceFrame surface = still_surface(0.0f, 0.0f);
   RenderScene s;
   s.floor.origin_x = s.floor.origin_y = -100.0f;
   s.floor.cell = 5.0f;
@@ -384,9 +390,9 @@ TEST(Renderer, StillWaterIsAMirrorWithAWaterline) {
   const Camera cam = make_cam({0.0f, 0.0f, 3.0f}, {0.0f, 20.0f, 0.0f}, w, h);
   Renderer r = make_renderer(s, w, h, {}, 2);
   Framebuffer fb(w, h), kr(w, h);
-  r.render(surface.value(), nullptr, nullptr, cam, fb);
+  r.render(surface, nullptr, nullptr, cam, fb);
   const houle::RenderCounters counters = r.last_counters();
-  r.render(surface.value(), nullptr, nullptr, cam, kr, RenderView::sea_reflectance);
+  r.render(surface, nullptr, nullptr, cam, kr, RenderView::sea_reflectance);
   // Everything below the horizon but the sphere's cap above the water is sea.
   const int horizon = int(std::lround(project(cam, {0.0f, 1e6f, 0.0f})[1]));
   ASSERT_GT(horizon, 5);
@@ -584,12 +590,7 @@ TEST(Renderer, ObjectsShadowTheSeaWhereTheSunPutsThem) {
   // 4 m further north (in no shadow): the shadowed one is darker, over a shallow floor (whose shadow
   // drew only the pillar's submerged foot, a thin band at its base) and over deep water (whose own
   // light the sun no longer reaches there).
-  auto surface = houle::SurfaceFrame::create(small_frame_config());
-  ASSERT_TRUE(surface.ok());
-  auto still = houle::make_gerstner_frame({}, 0.0);
-  ASSERT_TRUE(still.ok());
-  surface->begin_frame(-3.0f, 20.0f);
-  houle::fill_gerstner(surface.value(), still.value());
+  const houle::SurfaceFrame surface = still_surface(-3.0f, 20.0f);
   for (float depth : {1.0f, 50.0f}) {
     RenderScene s;
     s.floor.origin_x = s.floor.origin_y = -100.0f;
@@ -602,7 +603,7 @@ TEST(Renderer, ObjectsShadowTheSeaWhereTheSunPutsThem) {
     Renderer r = make_renderer(s, W, H, {}, 1);
     const auto centre = [&](float x, float y) {
       Framebuffer fb(W, H);
-      r.render(surface.value(), nullptr, nullptr, make_cam({x, y, 10.0f}, {x, y, 0.0f}, W, H, {0.0f, 1.0f, 0.0f}), fb);
+      r.render(surface, nullptr, nullptr, make_cam({x, y, 10.0f}, {x, y, 0.0f}, W, H, {0.0f, 1.0f, 0.0f}), fb);
       return houle::luminance(pixel(fb, int(W) / 2, int(H) / 2));
     };
     const float shadow = centre(-3.0f, 20.0f), open = centre(-3.0f, 24.0f);
@@ -766,6 +767,34 @@ RenderScene floor_grid(float x0, float y0, float cell, std::uint32_t nx, std::ui
     for (std::uint32_t i = 0; i < nx; ++i) s.floor.z.push_back(float(height(i, j)));
   }
   return s;
+}
+
+TEST(Renderer, LandIsSandWetNearTheWaterDryAbove) {
+  // A beach rising 1:10 out of still water, seen straight down from 8 m with the sun overhead: the
+  // sand is the scene's colour, darker where wet (10 cm above the water) than where dry (2.5 m up),
+  // and not one flat value across the dry beach (its grain: the pixels there are 13 cm wide).
+  RenderScene s = floor_grid(-50.0f, -50.0f, 1.0f, 101, 101, [](std::uint32_t, std::uint32_t j) { return 0.1 * (double(j) - 50.0); });
+  s.floor.sand = {0.7f, 0.5f, 0.3f};
+  s.sun_direction = {0.0f, 0.0f, 1.0f};
+  const houle::SurfaceFrame surface = still_surface(0.0f, 0.0f);
+  Renderer r = make_renderer(s, W, H, {}, 1);
+  const auto look = [&](float x, float y) {
+    Framebuffer fb(W, H);
+    r.render(surface, nullptr, nullptr, make_cam({x, y, 8.0f}, {x, y, 0.0f}, W, H, {0.0f, 1.0f, 0.0f}), fb);
+    return pixel(fb, int(W) / 2, int(H) / 2);
+  };
+  const LinearRgb wet = look(0.0f, 1.0f), dry = look(0.0f, 25.0f);
+  EXPECT_GT(dry.r, dry.g);
+  EXPECT_GT(dry.g, dry.b);
+  EXPECT_LT(houle::luminance(wet), 0.75f * houle::luminance(dry));
+  float lo = 1e30f, hi = 0.0f;
+  for (float x = -20.0f; x <= 20.0f; x += 2.5f) {
+    const float l = houle::luminance(look(x, 25.0f));
+    lo = std::min(lo, l);
+    hi = std::max(hi, l);
+  }
+  EXPECT_GT(hi, 1.04f * lo);  // grain
+  EXPECT_LT(hi, 1.3f * lo);
 }
 
 TEST(SceneObjects, BumpyFloorMatchesADenseMarch) {

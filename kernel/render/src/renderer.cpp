@@ -121,6 +121,41 @@ LinearRgb sky_irradiance_klx(const PreethamSky& sky) {
   return {float(e[0]), float(e[1]), float(e[2])};
 }
 
+/// Value noise in [-1, 1] on the unit lattice (a hash per lattice point, smoothstep between): the
+/// same bits on every machine (integer hashing, floor and products only).
+float lattice_noise(float x, float y) {
+  const float fx = std::floor(x), fy = std::floor(y);
+  const auto value = [](std::int32_t i, std::int32_t j) {
+    std::uint32_t h = std::uint32_t(i) * 0x8da6b343u ^ std::uint32_t(j) * 0xd8163841u;
+    h = (h ^ (h >> 15)) * 0x2c1b3c6du;
+    h ^= h >> 12;
+    return float(h & 0xffffu) * (2.0f / 65535.0f) - 1.0f;
+  };
+  const auto i = std::int32_t(fx), j = std::int32_t(fy);
+  float u = x - fx, v = y - fy;
+  u = u * u * (3.0f - 2.0f * u);
+  v = v * v * (3.0f - 2.0f * v);
+  const float a = value(i, j) + u * (value(i + 1, j) - value(i, j));
+  const float b = value(i, j + 1) + u * (value(i + 1, j + 1) - value(i, j + 1));
+  return a + v * (b - a);
+}
+
+/// The sand at p (docs/rendering.md 3.6): wet and darker (0.55 of the dry reflectance) under the
+/// water and up to wet_top above it, drying over the next metre; a grain of +-8 % (lattices of 2.3 m
+/// and 0.7 m) so a beach is not a flat plane, each lattice faded out as the pixel's footprint (m)
+/// reaches a quarter of its spacing: finer it would alias into speckle.
+LinearRgb sand_at(LinearRgb dry, const Vec3& p, float footprint) {
+  constexpr float wet_top = 0.3f, drying = 1.0f, wet = 0.55f;
+  const float u = std::clamp((p[2] - wet_top) / drying, 0.0f, 1.0f);
+  const float dryness = u * u * (3.0f - 2.0f * u);
+  const float x = std::clamp(p[0], -1e6f, 1e6f), y = std::clamp(p[1], -1e6f, 1e6f);
+  const auto fade = [&](float spacing) { return std::clamp(2.0f - footprint * 8.0f / spacing, 0.0f, 1.0f); };
+  const float grain = 1.0f + 0.05f * fade(2.3f) * lattice_noise(x * 0.43f, y * 0.43f) +
+                      0.03f * fade(0.7f) * lattice_noise(x * 1.4f + 17.0f, y * 1.4f);
+  const float k = (wet + (1.0f - wet) * dryness) * grain;
+  return {std::min(dry.r * k, 1.0f), std::min(dry.g * k, 1.0f), std::min(dry.b * k, 1.0f)};
+}
+
 bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
 
 /// Per-thread row buffers (SoA, `width` entries each), sized once by create().
@@ -159,6 +194,7 @@ struct Renderer::Impl {
 
   // Light in the renderer's relative units (see renderer.hpp).
   Vec3 sun{0.0f, 0.0f, 1.0f};
+  LinearRgb sand;             ///< the dry sand's reflectance
   LinearRgb sun_rgb;          ///< a white surface facing the sun reflects this
   LinearRgb ambient;          ///< a white horizontal surface reflects this of the sky's light
   LinearRgb sky_scale;        ///< sky kcd/m^2 -> relative radiance (dimmed and tinted after sunset)
@@ -197,12 +233,14 @@ struct Renderer::Impl {
   void shade_sample(Scratch& s) noexcept;
   LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
   LinearRgb sky_radiance(const Vec3& d) const noexcept { return sky.lookup(d) * sky_scale; }
-  LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept;
-  LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept;
+  // `travelled`: m from the camera to where the ray starts (0 for primary rays): with the hit's t it
+  // gives the pixel's footprint there.
+  LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept;
+  LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept;
   LinearRgb through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept;
-  LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept;
-  LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
-                        float illumination) const noexcept;
+  LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float travelled) const noexcept;
+  LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float illumination,
+                        float travelled) const noexcept;
   bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
   float sun_path_in_water(const Vec3& p) const noexcept {
     return sun_water[2] > 0.0f ? std::max(0.0f, -p[2]) / sun_water[2] : 0.0f;
@@ -211,10 +249,10 @@ struct Renderer::Impl {
 
 // ---- Shading ----------------------------------------------------------------------------------
 
-LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept {
+LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept {
   Vec3 n = h.normal;
   if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};  // the side the ray sees
-  const LinearRgb albedo = objects.albedo(h);
+  const LinearRgb albedo = h.kind == HitKind::floor ? sand_at(sand, p, (travelled + h.t) * camera.pixel_angle) : objects.albedo(h);
   LinearRgb light = ambient * (0.5f * (1.0f + n[2]));
   const float cos_sun = dot(n, sun);
   if (cos_sun > 0.0f) {
@@ -225,10 +263,10 @@ LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const V
   return albedo * light;
 }
 
-LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept {
+LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept {
   Vec3 n = h.normal;
   if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};
-  const LinearRgb albedo = objects.albedo(h);
+  const LinearRgb albedo = h.kind == HitKind::floor ? sand_at(sand, p, (travelled + h.t) * camera.pixel_angle) : objects.albedo(h);
   LinearRgb light = ambient_water * (0.5f * (1.0f + n[2]));
   const float cos_sun = dot(n, sun_water);
   if (cos_sun > 0.0f && sun_water[2] > 0.0f) {
@@ -267,10 +305,11 @@ LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float 
 }
 
 /// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky.
-LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
+LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
+                                     float travelled) const noexcept {
   if (quality.reflect_objects) {
     const SurfaceHit h = objects.intersect(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
-    if (h.kind != HitKind::none) return lit_in_air(h, along(p, d, h.t), d);
+    if (h.kind != HitKind::none) return lit_in_air(h, along(p, d, h.t), d, travelled);
   }
   return sky_radiance(d);
 }
@@ -278,12 +317,12 @@ LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, fl
 /// Radiance arriving at p from direction d through water: eq. 12 on the floor or an object within
 /// reach, I_sea otherwise.
 LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
-                                       float illumination) const noexcept {
+                                       float illumination, float travelled) const noexcept {
   const SurfaceHit h =
       objects.intersect(make_ray(p, offset_normal, offset, d), 0.0, double(std::min(underwater_reach, max_distance)));
   if (h.kind == HitKind::none) return water->sea_colour() * illumination;
   const Vec3 q = along(p, d, h.t);
-  return through_water(lit_in_water(h, q, d), h.t, sun_path_in_water(q), illumination);
+  return through_water(lit_in_water(h, q, d, travelled), h.t, sun_path_in_water(q), illumination);
 }
 
 /// Whether the sun reaches the sea's surface at p past the boxes and spheres (docs/rendering.md 3.5):
@@ -312,8 +351,8 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     }
     ++c.object;
     const Vec3 p = along(camera.position, d, h.t);
-    if (!camera_under) return lit_in_air(h, p, d);
-    return through_water(lit_in_water(h, p, d), h.t, sun_path_in_water(p), sea_illumination);
+    if (!camera_under) return lit_in_air(h, p, d, 0.0f);
+    return through_water(lit_in_water(h, p, d, 0.0f), h.t, sun_path_in_water(p), sea_illumination);
   }
   ++c.sea;
   const float t = s.a[Scratch::t][i];
@@ -337,9 +376,9 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     lift(r);
     // In an object's shadow the sea loses the glint and the sun's share of its own light.
     const bool lit = sunlit(p, n, offset);
-    const LinearRgb reflected = trace_air(p, n, offset, r);
+    const LinearRgb reflected = trace_air(p, n, offset, r, t);
     const LinearRgb transmitted =
-        kr < 1.0f ? trace_water(p, n_down, offset, tr, lit ? sea_illumination : sea_shade_illumination) : LinearRgb{};
+        kr < 1.0f ? trace_water(p, n_down, offset, tr, lit ? sea_illumination : sea_shade_illumination, t) : LinearRgb{};
     // The sun's glint, widened by the slope variance of the octaves the LOD left out at this pixel.
     float glint = 0.0f;
     const Vec3 v{-d[0], -d[1], -d[2]};
@@ -354,11 +393,11 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     return reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
   }
   // From below: the interface sent r back down into the sea and tr (outside Snell's window: none) up.
-  const LinearRgb reflected = trace_water(p, n_down, offset, r, sea_illumination);
+  const LinearRgb reflected = trace_water(p, n_down, offset, r, sea_illumination, t);
   LinearRgb transmitted{};
   if (kr < 1.0f) {
     lift(tr);
-    transmitted = trace_air(p, n, offset, tr);
+    transmitted = trace_air(p, n, offset, tr, t);
   }
   return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
 }
@@ -505,6 +544,7 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
   // sun on the horizon is dimmed and turns blue with the sun's depression (docs/rendering.md 6.4).
   Impl& r = *impl;
   r.sun = sky->sun_direction();
+  r.sand = scene.floor.sand;
   const float elevation = std::asin(std::clamp(r.sun[2], -1.0f, 1.0f));
   const LinearRgb transmittance = sun_transmittance(double(r.sun[2]), double(scene.turbidity));
   const double e_sun = solar_constant_klx * double(luminance(transmittance));
