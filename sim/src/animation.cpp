@@ -115,7 +115,9 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   if (!sea) return sea.error();
   Expected<SurfaceFrame> surface = SurfaceFrame::create(quality.surface);
   if (!surface) return Error{"quality.surface", surface.error().message};
-  Expected<Renderer> renderer = Renderer::create(make_render_scene(s), width, height, planned_quality(plan, quality).render, threads);
+  RenderScene render_scene = make_render_scene(s);
+  if (plan.surf) render_scene.surf = sea.value().surf_map(s);
+  Expected<Renderer> renderer = Renderer::create(render_scene, width, height, planned_quality(plan, quality).render, threads);
   if (!renderer) return Error{"render", renderer.error().message};
 
   Animation a(std::move(renderer.value()), std::move(surface.value()));

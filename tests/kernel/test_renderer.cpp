@@ -611,6 +611,67 @@ TEST(Renderer, ObjectsShadowTheSeaWhereTheSunPutsThem) {
   }
 }
 
+TEST(Renderer, FoamWhereTheSurfMapSaysWavesBreak) {
+  // Deep water, the two trains, and a surf map that says waves break west of x = 0 (travelling
+  // north, 0.3 m): the sea there is foamed, whiter and brighter than east of it, and more on the
+  // crests than in the troughs; east of it, and with no map at all, the sea is the same.
+  RenderScene scene;
+  scene.sun_direction = {0.3f, -0.5f, 0.8f};
+  RenderScene surfing = scene;
+  houle::SurfMap& m = surfing.surf;
+  m.origin_x = m.origin_y = -100.0f;
+  m.cell = 1.0f;
+  m.nx = m.ny = 201;
+  const std::size_t nodes = 201 * 201;
+  m.foam.assign(nodes, 0.0f);
+  m.dir_x.assign(nodes, 0.0f);
+  m.dir_y.assign(nodes, 1.0f);
+  m.amplitude.assign(nodes, 0.3f);
+  for (std::size_t n = 0; n < nodes; ++n) m.foam[n] = n % 201 <= 99 ? 1.0f : 0.0f;  // x <= -1
+  const houle::SurfaceFrame s = make_surface(3.0);
+  const Camera cam = default_cam();
+  Renderer plain = make_renderer(scene, W, H, {}, 1), foamy = make_renderer(surfing, W, H, {}, 1);
+  Framebuffer a(W, H), b(W, H);
+  plain.render(s, nullptr, nullptr, cam, a);
+  foamy.render(s, nullptr, nullptr, cam, b);
+  double west = 0.0, east = 0.0, west_plain = 0.0, crest = 0.0, trough = 0.0;
+  double red = 0.0, blue = 0.0, red_plain = 0.0, blue_plain = 0.0;
+  int crests = 0, troughs = 0;
+  for (int y = int(H) / 2 + 4; y < int(H); ++y) {
+    for (int x = 0; x < int(W); ++x) {
+      const auto d = houle::camera_ray(cam, float(x) + 0.5f, float(y) + 0.5f);
+      const float t = -cam.position[2] / d[2], wx = cam.position[0] + t * d[0];
+      if (std::abs(wx) < 2.0f) continue;
+      const float lb = houle::luminance(pixel(b, x, y)), la = houle::luminance(pixel(a, x, y));
+      if (wx > 0.0f) {
+        EXPECT_EQ(lb, la) << x << ", " << y;  // no foam, the same sea
+        east += lb;
+      } else {
+        west += lb;
+        west_plain += la;
+        red += pixel(b, x, y).r, blue += pixel(b, x, y).b;
+        red_plain += pixel(a, x, y).r, blue_plain += pixel(a, x, y).b;
+      }
+    }
+  }
+  EXPECT_GT(west, 1.5 * west_plain);
+  EXPECT_GT(red / blue, 1.3 * red_plain / blue_plain);  // whiter: less of the sea's blue
+  // Crests against troughs along one column of the foamed half: the brightest pixels are crests.
+  const int column = int(W) / 5;
+  for (int y = int(H) / 2 + 4; y < int(H); ++y) {
+    const auto d = houle::camera_ray(cam, float(column) + 0.5f, float(y) + 0.5f);
+    const float t = -cam.position[2] / d[2];
+    const float h = s.height_at(cam.position[0] + t * d[0], cam.position[1] + t * d[1]);
+    const float l = houle::luminance(pixel(b, column, y));
+    if (h > 0.1f) crest += l, ++crests;
+    if (h < -0.1f) trough += l, ++troughs;
+  }
+  ASSERT_GT(crests, 0);
+  ASSERT_GT(troughs, 0);
+  EXPECT_GT(crest / crests, trough / troughs);
+  std::printf("foam: west %.3f (plain %.3f), east %.3f\n", west, west_plain, east);
+}
+
 TEST(Renderer, ClearWaterShowsTheFloorDeepWaterHidesIt) {
   // Looking straight down through 5 m of pure water onto a white floor, and through 500 m.
   RenderScene shallow;

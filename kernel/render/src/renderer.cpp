@@ -156,6 +156,23 @@ LinearRgb sand_at(LinearRgb dry, const Vec3& p, float footprint) {
   return {std::min(dry.r * k, 1.0f), std::min(dry.g * k, 1.0f), std::min(dry.b * k, 1.0f)};
 }
 
+/// The surf map's fields at (x, y), bilinear; all 0 outside the map.
+struct SurfSample {
+  float foam = 0.0f, dir_x = 0.0f, dir_y = 0.0f, amplitude = 0.0f;
+};
+SurfSample surf_at(const SurfMap& m, float x, float y) {
+  const float u = (x - m.origin_x) / m.cell, v = (y - m.origin_y) / m.cell;
+  if (!(u >= 0.0f && v >= 0.0f && u < float(m.nx - 1) && v < float(m.ny - 1))) return {};  // NaN too
+  const auto i = std::size_t(u), j = std::size_t(v);
+  const float a = u - float(i), b = v - float(j);
+  const std::size_t n = j * m.nx + i;
+  const auto lerp = [&](const std::vector<float>& f) {
+    const float lo = f[n] + a * (f[n + 1] - f[n]), hi = f[n + m.nx] + a * (f[n + m.nx + 1] - f[n + m.nx]);
+    return lo + b * (hi - lo);
+  };
+  return {lerp(m.foam), lerp(m.dir_x), lerp(m.dir_y), lerp(m.amplitude)};
+}
+
 bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
 
 /// Per-thread row buffers (SoA, `width` entries each), sized once by create().
@@ -195,6 +212,7 @@ struct Renderer::Impl {
   // Light in the renderer's relative units (see renderer.hpp).
   Vec3 sun{0.0f, 0.0f, 1.0f};
   LinearRgb sand;             ///< the dry sand's reflectance
+  SurfMap surf;               ///< where waves break (empty: nowhere)
   LinearRgb sun_rgb;          ///< a white surface facing the sun reflects this
   LinearRgb ambient;          ///< a white horizontal surface reflects this of the sky's light
   LinearRgb sky_scale;        ///< sky kcd/m^2 -> relative radiance (dimmed and tinted after sunset)
@@ -242,6 +260,7 @@ struct Renderer::Impl {
   LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float illumination,
                         float travelled) const noexcept;
   bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
+  float foam_cover(const Vec3& p, float grad_x, float grad_y, float footprint) const noexcept;
   float sun_path_in_water(const Vec3& p) const noexcept {
     return sun_water[2] > 0.0f ? std::max(0.0f, -p[2]) / sun_water[2] : 0.0f;
   }
@@ -325,6 +344,22 @@ LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, 
   return through_water(lit_in_water(h, q, d, travelled), h.t, sun_path_in_water(q), illumination);
 }
 
+/// How much of the sea at hit p (surface gradient grad) foam covers (docs/rendering.md 3.7): where the
+/// surf map says waves break, on the crests (their height against the breaking wave's amplitude)
+/// and most on their front faces (the surface falling along the waves' travel), with a thinner sheet
+/// of spent foam between them; patchy, the patches faded out as the footprint (m) grows past them.
+float Renderer::Impl::foam_cover(const Vec3& p, float grad_x, float grad_y, float footprint) const noexcept {
+  const SurfSample s = surf_at(surf, p[0], p[1]);
+  if (!(s.foam > 0.0f)) return 0.0f;
+  const float up = std::clamp(p[2] / std::max(s.amplitude, 0.05f) + 0.3f, 0.0f, 1.0f);
+  const float crest = up * up * (3.0f - 2.0f * up);
+  const float moving = s.dir_x * s.dir_x + s.dir_y * s.dir_y;  // 0 at a wall's toe: every crest foams
+  const float front = moving > 0.25f ? std::clamp(-5.0f * (grad_x * s.dir_x + grad_y * s.dir_y), 0.0f, 1.0f) : 1.0f;
+  const float patches = std::clamp(2.0f - footprint * 8.0f / 1.5f, 0.0f, 1.0f);
+  const float texture = 0.7f + 0.3f * patches * lattice_noise(p[0] * 0.8f + 5.0f, p[1] * 0.8f);
+  return std::clamp(s.foam * (0.2f + crest * (0.3f + 0.7f * front)) * texture, 0.0f, 1.0f);
+}
+
 /// Whether the sun reaches the sea's surface at p past the boxes and spheres (docs/rendering.md 3.5):
 /// its glint and its share of the water's light are in their shadow otherwise. The ray goes only as
 /// far as the highest object.
@@ -390,7 +425,16 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     if (cos_h > 0.0f && (1.0f - cos_h * cos_h) < 60.0f * (variance + sun_disc_slope_variance) * cos_h * cos_h) {
       glint = lit ? pi * sun_glint(n, v, sun, variance) : 0.0f;
     }
-    return reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
+    const LinearRgb surface_light = reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
+    if (surf.nx == 0) return surface_light;
+    const float cover = foam_cover(p, s.a[Scratch::gx][i], s.a[Scratch::gy][i], t * camera.pixel_angle);
+    if (!(cover > 0.0f)) return surface_light;
+    // Foam is a white diffuse layer on the water, lit like an object's face along the normal.
+    constexpr float foam_albedo = 0.85f;
+    const float cos_sun = dot(n, sun);
+    const LinearRgb foam =
+        (ambient * (0.5f * (1.0f + n[2])) + (lit && cos_sun > 0.0f ? sun_rgb * cos_sun : LinearRgb{})) * foam_albedo;
+    return surface_light * (1.0f - cover) + foam * cover;
   }
   // From below: the interface sent r back down into the sea and tr (outside Snell's window: none) up.
   const LinearRgb reflected = trace_water(p, n_down, offset, r, sea_illumination, t);
@@ -545,6 +589,14 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
   Impl& r = *impl;
   r.sun = sky->sun_direction();
   r.sand = scene.floor.sand;
+  const SurfMap& surf = scene.surf;
+  const std::size_t surf_nodes = std::size_t(surf.nx) * surf.ny;
+  if ((surf.nx == 0) != (surf.ny == 0) || (surf.nx != 0 && (surf.nx < 2 || surf.ny < 2)) ||
+      !(std::isfinite(surf.cell) && surf.cell > 0.0f) || surf.foam.size() != surf_nodes ||
+      surf.dir_x.size() != surf_nodes || surf.dir_y.size() != surf_nodes || surf.amplitude.size() != surf_nodes) {
+    return Error{"surf", "nx, ny >= 2 (or both 0), a cell > 0 m and nx * ny values in each field"};
+  }
+  r.surf = surf;
   const float elevation = std::asin(std::clamp(r.sun[2], -1.0f, 1.0f));
   const LinearRgb transmittance = sun_transmittance(double(r.sun[2]), double(scene.turbidity));
   const double e_sun = solar_constant_klx * double(luminance(transmittance));
