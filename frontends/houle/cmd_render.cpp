@@ -139,7 +139,10 @@ int cmd_render(std::span<char* const> argv) {
     return 2;
   }
   const bool progress = !o.quiet, live = progress && ::isatty(2);  // live: one line redrawn with \r
-  if (o.verbose) std::fprintf(stderr, "houle render: scene built in %.1f ms\n", anim->build_ms());
+  if (o.verbose) {
+    std::fprintf(stderr, "houle render: scene built in %.1f ms, exposure %.4g%s\n", anim->build_ms(),
+                 o.exposure.value_or(anim->renderer().display_exposure()), o.exposure ? " (--exposure)" : " (the scene's)");
+  }
 
   // From here on a stop ends the run after a complete frame (and a --raw file written whole is removed).
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_stop_signal);
