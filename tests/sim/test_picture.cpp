@@ -13,6 +13,9 @@
 #include "houle/render/colour.hpp"
 #include "houle/render/framebuffer.hpp"
 #include "houle/sim/animation.hpp"
+#include "houle/sim/effect_plan.hpp"
+#include "houle/sim/sea_surface.hpp"
+#include "houle/sim/wave_rays.hpp"
 #include "houle/sim/scene.hpp"
 #include "houle/surface/camera.hpp"
 
@@ -210,6 +213,69 @@ TEST(Picture, WallBlocksLeaveNoGapOnTheirTop) {
   }
   EXPECT_GT(points, 1000);
   EXPECT_EQ(uncovered, 0) << "of " << points;
+}
+
+TEST(Picture, SurfMovesWithTheWavesWithoutFlicker) {
+  // A 0.4 m swell breaking on a 1:20 beach, seen from 12 m over the surf zone at 120 frames a second:
+  // no pixel departs from both its time neighbours in the same direction by more than 5 % of the
+  // frame's mean luminance while none of its eight neighbours does (isolated flips: flicker), and
+  // foam is there (the surf map is not empty).
+  houle::Scene s;
+  s.domain = {0.0, 0.0, 100.0, 160.0};
+  s.floor.base.kind = houle::FloorKind::planar_beach;
+  s.floor.base.depth = 12.0;
+  s.floor.base.slope = 0.05;
+  s.floor.base.shoreline = {0.0, 150.0};
+  houle::WaveTrain swell;
+  swell.direction_deg = 90.0;
+  swell.period = 5.0;
+  swell.amplitude = 0.4;
+  s.trains = {swell};
+  s.camera = houle::ViewCamera{{50.0, 110.0, 12.0}, {50.0, 145.0, 0.0}, 50.0};
+  constexpr std::uint32_t w = 160, h = 90;
+  Animation a = make_animation(s, w, h);
+  ASSERT_TRUE(houle::plan_effects(s, houle::quality_preset(houle::QualityPreset::realtime)).surf);
+  {
+    auto waves = houle::trace_wave_field(s);
+    ASSERT_TRUE(waves.ok());
+    auto sea = houle::SeaSurface::build(s, waves.value(), 0.5f);
+    ASSERT_TRUE(sea.ok());
+    const houle::SurfMap m = sea->surf_map(s);
+    ASSERT_GT(m.nx, 0u);
+    EXPECT_GT(std::count(m.foam.begin(), m.foam.end(), 1.0f), 1000);
+  }
+  const auto frame = [&](double t) {
+    Framebuffer fb(w, h);
+    a.render(t, fb);
+    std::vector<float> l(std::size_t(w) * h);
+    for (std::size_t i = 0; i < l.size(); ++i) l[i] = houle::luminance({fb.rgb[3 * i], fb.rgb[3 * i + 1], fb.rgb[3 * i + 2]});
+    return l;
+  };
+  for (double t0 : {1.0, 2.3}) {
+    const std::vector<float> f0 = frame(t0), f1 = frame(t0 + 1.0 / 120.0), f2 = frame(t0 + 2.0 / 120.0);
+    double mean = 0.0;
+    for (float v : f1) mean += v;
+    const double threshold = 0.05 * mean / double(f1.size());
+    const auto flips = [&](std::size_t i) {
+      const double up = double(f1[i]) - f0[i], down = double(f1[i]) - f2[i];
+      return (up > threshold && down > threshold) || (up < -threshold && down < -threshold);
+    };
+    std::size_t isolated = 0;
+    for (std::uint32_t y = 1; y + 1 < h; ++y) {
+      for (std::uint32_t x = 1; x + 1 < w; ++x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        if (!flips(i)) continue;
+        bool neighbour = false;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            if (dx != 0 || dy != 0) neighbour |= flips(std::size_t(int(i) + dy * int(w) + dx));
+          }
+        }
+        isolated += !neighbour;
+      }
+    }
+    EXPECT_EQ(isolated, 0u) << "t " << t0;
+  }
 }
 
 }  // namespace
