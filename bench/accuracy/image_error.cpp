@@ -14,9 +14,12 @@ namespace {
 std::vector<float> displayed(const Framebuffer& fb) {
   std::vector<float> d(fb.rgb.size());
   const ToneMap tm{};
-  for (std::size_t i = 0; i < d.size(); ++i) {
-    const double c = std::clamp(double(tone_map(fb.rgb[i], tm)), 0.0, 1.0);
-    d[i] = float(c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055);
+  for (std::size_t i = 0; i < d.size(); i += 3) {
+    const LinearRgb t = tone_map({fb.rgb[i], fb.rgb[i + 1], fb.rgb[i + 2]}, tm);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double c = k == 0 ? t.r : k == 1 ? t.g : t.b;
+      d[i + k] = float(c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055);
+    }
   }
   return d;
 }

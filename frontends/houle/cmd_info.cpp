@@ -150,11 +150,11 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
     std::printf("],\n");
     std::printf(" \"plan\": {\"ray_tracing\": %s, \"wave_model\": \"%s\", \"wave_model_why\": %s, \"diffraction\": %s, "
                 "\"wall_reflection\": %s, \"capillary_noise\": %s, "
-                "\"refraction\": %s, \"specular\": %s, \"shadows\": %s, \"reflect_objects\": %s},\n",
+                "\"refraction\": %s, \"specular\": %s, \"shadows\": %s, \"reflect_objects\": %s, \"surf\": %s},\n",
                 json_bool(plan.ray_tracing), wave_model_name(plan.wave_model.kind).data(),
                 json_string(std::string(plan.wave_model.why)).c_str(), json_bool(plan.diffraction), json_bool(plan.wall_reflection),
                 json_bool(plan.capillary_noise), json_bool(plan.refraction), json_bool(plan.specular),
-                json_bool(plan.shadows), json_bool(plan.reflect_objects));
+                json_bool(plan.shadows), json_bool(plan.reflect_objects), json_bool(plan.surf));
     std::printf(" \"trains\": [");
     for (std::size_t i = 0; i < s.trains.size(); ++i) {
       const WaveTrain& t = s.trains[i];
@@ -230,11 +230,11 @@ and when the wave rays stopped at a cap (allowed by dwt.on_cap = "warn"; by defa
               std::size_t(floating));
   for (const std::string& w : warnings) std::printf("warning: %s\n", w.c_str());
   std::printf("capillary ripples: %s\n", s.capillary.amplitude > 0.0 ? "on" : "off");
-  std::printf("effect plan (%s): ray tracing %s, diffraction %s, wall reflection %s, capillary noise %s, "
-              "refraction %s, specular %s, shadows %s, object reflections %s\n",
+  std::printf("effect plan (%s): ray tracing %s, diffraction %s, wall reflection %s, capillary noise %s, refraction %s, "
+              "specular %s, shadows %s, object reflections %s, surf %s\n",
               quality_name(quality).data(), yes(plan.ray_tracing), yes(plan.diffraction), yes(plan.wall_reflection),
               yes(plan.capillary_noise), yes(plan.refraction), yes(plan.specular), yes(plan.shadows),
-              yes(plan.reflect_objects));
+              yes(plan.reflect_objects), yes(plan.surf));
   std::printf("wave model: %s (%s)\n", wave_model_name(plan.wave_model.kind).data(), plan.wave_model.why.data());
   std::printf("rays: %llu (%llu initial, %llu inserted, %llu reflected), %llu samples, %llu wavefront steps (%llu shared "
               "by two lanes), %llu turned back by refraction%s\n",

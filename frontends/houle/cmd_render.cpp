@@ -53,7 +53,8 @@ options:
   --pixel-format F        raw pixel format, ffmpeg's names: rgb24 (default), rgba, bgra (sRGB; rgba8 and
                           bgra8 too) or rgbf32 (linear floats); with --out only rgbf32, for linear
                           32-bit float images (.tif/.tiff as float TIFF, .exr in full float)
-  --exposure E            multiplies the linear image before tone mapping (default 1)
+  --exposure E            multiplies the linear image before tone mapping (default: the scene's,
+                          fixed from its sun and sky); EXR, HDR and PFM files and rgbf32 stay linear
   --skip-existing         restart a stopped run: render only the frames whose --out file is missing,
                           or nothing if the --raw file exists (which is then written whole, under a
                           temporary name until its last frame); temporary files that a killed run
@@ -167,13 +168,14 @@ int cmd_render(std::span<char* const> argv) {
     const BuildCost& c = anim->build_cost();
     std::fprintf(stderr, "houle render: estimated once traced: %.0f MiB at the peak, %.1f s of CPU after the trace, %llu samples\n",
                  double(c.bytes()) / 1048576.0, c.seconds(), (unsigned long long)c.samples);
-    std::fprintf(stderr, "houle render: scene built in %.1f ms\n", anim->build_ms());
+    std::fprintf(stderr, "houle render: scene built in %.1f ms, exposure %.4g%s\n", anim->build_ms(),
+                 o.exposure.value_or(anim->renderer().display_exposure()), o.exposure ? " (--exposure)" : " (the scene's)");
   }
 
   // From here on a stop ends the run after a complete frame (and a --raw file written whole is removed).
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_stop_signal);
   Framebuffer fb(o.width, o.height, o.aovs);
-  const ToneMap tm{o.exposure};
+  const ToneMap tm{o.exposure.value_or(anim->renderer().display_exposure())};
   const auto start = std::chrono::steady_clock::now();
   const long total = count_frames(todo), skipped = o.last - o.first + 1 - total;
   long done = 0;

@@ -24,7 +24,7 @@ struct RenderOptions {
   Y4mChroma y4m_chroma = Y4mChroma::c420;
   FrameAovs aovs;                        ///< EXR channels beside R, G, B (--aov)
   std::optional<PixelFormat> format;  ///< raw: default rgb24; images: only rgbf32 (32-bit float files)
-  float exposure = 1.0f;
+  std::optional<float> exposure;  ///< none: the scene's (Renderer::display_exposure)
   bool skip_existing = false;
   bool realtime = false, quiet = false, verbose = false;
 };

@@ -98,6 +98,7 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   // A floating object goes no further than the sea's height bound up or down, and its centre swings
   // by less than 1.5 times its height above the waterplane as it tilts.
   RenderScene render_scene = make_render_scene(s);
+  if (plan.surf) render_scene.surf = sea.value().surf_map(s);
   std::vector<FloatingObject> floating = floating_objects(s, render_scene.boxes.size() - s.boxes.size());
   const double float_bound = double(sea->height_bound());
   for (const FloatingObject& f : floating) {
@@ -172,7 +173,7 @@ void Animation::render(double time_s, Framebuffer& out) noexcept {
       noise_ = f.value();
       noise = &noise_;
       ++noise_frames_;
-      const float top = float(noise_params_->max_octaves);
+      const float top = capillary_top_level(*noise_params_);
       surface_.set_noise_bounds(capillary_height_bound(*noise_params_, top), capillary_slope_bound(*noise_params_, top));
     }
   }

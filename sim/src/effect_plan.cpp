@@ -33,6 +33,7 @@ EffectPlan plan_effects(const Scene& scene, const Quality& quality) {
   p.diffraction = p.ray_tracing && scene_has_pierheads(scene);
   p.wall_reflection = p.ray_tracing && scene_has_reflecting_walls(scene);
   p.capillary_noise = scene.capillary.amplitude > 0.0 && scene.capillary.max_octaves > 0;
+  p.surf = p.ray_tracing;
 
   const Bathymetry floor(scene.floor);
   const double shallowest = floor.min_depth_bound(scene.domain);

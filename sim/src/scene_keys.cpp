@@ -158,6 +158,8 @@ constexpr Key<FloorBase> floor_base_keys[] = {
      "beach: a point of the still-water shoreline (depth 0); landward of it the floor keeps rising with the same "
      "slope",
      {}, beach},
+    {"sand_colour", &FloorBase::sand_colour, "", unit_interval,
+     "linear RGB reflectance of the dry sand (land and sea bed); wet sand, near and under the water, is darker"},
 };
 
 constexpr Key<Shoal> shoal_keys[] = {

@@ -431,7 +431,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
   }
   work.pierheads += pierheads.size();
 
-  for (std::vector<float>* v : {&f.phi, &f.b_re, &f.b_im, &f.kx, &f.ky, &f.fold, &f.lean}) v->assign(nodes, 0.0f);
+  for (std::vector<float>* v : {&f.phi, &f.b_re, &f.b_im, &f.kx, &f.ky, &f.fold, &f.lean, &f.breaking}) v->assign(nodes, 0.0f);
   f.diffraction.assign(pierheads.empty() ? 0 : nodes, 0.0f);
   for (std::vector<float>* v : {&f.incident, &f.diffracted, &f.reflected}) v->assign(parts == SeaParts::keep ? nodes : 0, 0.0f);
   std::vector<FamilyField> reflections(reflected.size());
@@ -661,6 +661,9 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     const double h = std::max(double(depths[n]), min_depth);
     cplx b = sums[n] * std::polar(1.0, psi - carrier[n]);
     const double limit = breaking_limit(n);
+    // Breaking: 1 where the wave is within 20 % of the cap (in the surf zone the tracer holds it there
+    // and the resampling spreads it a little below), rising from 0 at 55 % of it.
+    f.breaking[n] = float(std::clamp((std::abs(b) / limit - 0.55) / 0.25, 0.0, 1.0));
     if (std::abs(b) > limit) b *= limit / std::abs(b);
     f.b_re[n] = float(b.real());
     f.b_im[n] = float(b.imag());
@@ -701,6 +704,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       f.b_re[m] = float(b.real());
       f.b_im[m] = float(b.imag());
       magnitude[m] = magnitude[n] * scale;
+      f.breaking[m] = scale < 1.0 ? 1.0f : f.breaking[n];
       double fold, lean;
       shape(steepness, std::hypot(double(f.kx[m]), double(f.ky[m])), h, fold, lean);
       f.fold[m] = float(fold);

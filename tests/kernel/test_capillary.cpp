@@ -523,6 +523,28 @@ TEST(Capillary, OctaveLevelFollowsFootprint) {
   EXPECT_FLOAT_EQ(houle::capillary_footprint(10.0f, 1e-3f, 0.0f), 10.0f);  // sin clamped at 1e-3
 }
 
+TEST(Capillary, OctavesFadeOverAtLeastAFactorTwoOfFootprint) {
+  // With lacunarity 1.25 an octave used to fade over a factor 1.25 of footprint: at 0.25 m amplitude
+  // the ripples ended at a hard circle (issue 21). Each octave now fades over a factor max(k, 2). The
+  // height bound of a single octave follows its weight: where is it 99 % and 1 % of its whole value?
+  for (float k : {1.25f, 1.5f, 2.0f, 3.0f}) {
+    CapillaryParams p;
+    p.lacunarity = k;
+    p.max_octaves = 1;
+    const float whole = houle::capillary_height_bound(p, houle::capillary_top_level(p));
+    float w99 = 0.0f, w01 = 0.0f;
+    for (float w = 0.01f; w < 10.0f; w *= 1.001f) {
+      const float b = houle::capillary_height_bound(p, houle::octave_level(p, w)) / whole;
+      if (b >= 0.99f) w99 = w;
+      if (b >= 0.01f) w01 = w;
+    }
+    // smoothstep goes from 1 % to 99 % over 0.882 of its ramp: a factor F^0.882 of footprint.
+    EXPECT_GT(w01 / w99, 0.99f * std::pow(std::max(k, 2.0f), 0.882f)) << "k " << k;
+    // The octave is whole while it has N samples per wavelength.
+    EXPECT_NEAR(w99, p.base_wavelength / p.samples_per_wavelength, 0.05f * p.base_wavelength) << "k " << k;
+  }
+}
+
 // ---- Determinism and validation ----
 
 TEST(Capillary, DeterministicAndPinned) {

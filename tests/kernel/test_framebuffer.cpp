@@ -30,16 +30,49 @@ TEST(Framebuffer, Srgb8MatchesTheExactCurveOnEveryFloatInUnitInterval) {
   EXPECT_EQ(houle::srgb8_from_linear(2.0f), 255);
 }
 
-TEST(Framebuffer, ToneMapIsIdentityBelowTheKneeAndC1AtIt) {
+TEST(Framebuffer, ToneMapRollsHighlightsOffAndDesaturatesThemTowardsWhite) {
   const houle::ToneMap tm{};
-  EXPECT_EQ(houle::tone_map(0.5f, tm), 0.5f);
-  EXPECT_EQ(houle::tone_map(-3.0f, tm), 0.0f);
-  EXPECT_EQ(houle::tone_map(NAN, tm), 0.0f);
-  EXPECT_LT(houle::tone_map(1e6f, tm), 1.0f + 1e-6f);
-  // Right-hand difference quotient at the knee against its analytic value (which tends to 1: C1).
-  const double e = 1.0 / 1024.0;
-  const double slope = (double(houle::tone_map(0.8f + float(e), tm)) - double(houle::tone_map(0.8f, tm))) / e;
-  EXPECT_NEAR(slope, 0.2 * (1.0 - std::exp(-e / 0.2)) / e, 1e-4);
+  const auto y = [](houle::LinearRgb c) { return houle::luminance(c); };
+  // Black for what is not a finite non-negative radiance.
+  for (float bad : {-3.0f, NAN, INFINITY}) {
+    const houle::LinearRgb d = houle::tone_map({bad, bad, bad}, tm);
+    EXPECT_EQ(d.r + d.g + d.b, 0.0f) << bad;
+  }
+  // The curve: increasing, below 1, and still rising far above 1: highlights roll off, they do not
+  // clip (the old per-channel shoulder was flat white from about 1.8 on).
+  float last = 0.0f;
+  for (float x = 1e-4f; x < 1e4f; x *= 1.1f) {
+    const float f = houle::filmic_curve(x);
+    EXPECT_GT(f, last) << x;
+    EXPECT_LE(f, 1.0f) << x;
+    last = f;
+  }
+  EXPECT_LT(houle::filmic_curve(4.0f), 0.97f);
+  EXPECT_GT(houle::filmic_curve(8.0f) - houle::filmic_curve(4.0f), 0.01f);
+  EXPECT_NEAR(houle::filmic_curve(0.18f), 0.259f, 0.002f);  // mid grey
+  // Grey stays grey; a moderate colour keeps its hue (channel ratios) and gets the curve's luminance.
+  const houle::LinearRgb grey = houle::tone_map({0.5f, 0.5f, 0.5f}, tm);
+  EXPECT_FLOAT_EQ(grey.r, grey.b);
+  EXPECT_NEAR(y(grey), houle::filmic_curve(0.5f), 1e-6f);
+  const houle::LinearRgb sea = houle::tone_map({0.05f, 0.2f, 0.3f}, tm);
+  EXPECT_NEAR(sea.g / sea.r, 4.0f, 1e-4f);
+  EXPECT_NEAR(sea.b / sea.r, 6.0f, 1e-4f);
+  EXPECT_NEAR(y(sea), houle::filmic_curve(y({0.05f, 0.2f, 0.3f})), 1e-6f);
+  // A saturated highlight goes towards white at the curve's luminance: no channel above 1, and the
+  // brighter it is, the less saturated.
+  float last_spread = 2.0f;
+  for (float e : {2.0f, 8.0f, 32.0f, 128.0f}) {
+    const houle::LinearRgb d = houle::tone_map({e, 0.3f * e, 0.05f * e}, tm);
+    EXPECT_LE(std::max(d.r, std::max(d.g, d.b)), 1.0f) << e;
+    EXPECT_NEAR(y(d), houle::filmic_curve(y({e, 0.3f * e, 0.05f * e})), 1e-5f) << e;
+    const float spread = d.r - d.b;
+    EXPECT_LT(spread, last_spread) << e;
+    last_spread = spread;
+  }
+  // Exposure multiplies first.
+  const houle::LinearRgb a = houle::tone_map({0.1f, 0.2f, 0.3f}, houle::ToneMap{4.0f}), b = houle::tone_map({0.4f, 0.8f, 1.2f}, tm);
+  EXPECT_FLOAT_EQ(a.r, b.r);
+  EXPECT_FLOAT_EQ(a.b, b.b);
 }
 
 TEST(Framebuffer, EncodesEveryFormatTightlyPacked) {
@@ -51,11 +84,11 @@ TEST(Framebuffer, EncodesEveryFormatTightlyPacked) {
     EXPECT_EQ(out.back(), std::byte{0x5a}) << "wrote past the frame";
     const auto* u = reinterpret_cast<const std::uint8_t*>(out.data());
     if (f == houle::PixelFormat::rgb24) {
-      EXPECT_EQ(u[3 * 5 + 1], 128);  // decode(128 / 255) = 0.2158605
+      EXPECT_EQ(u[3 * 5 + 1], houle::srgb8_from_linear(houle::tone_map({1.0f, 0.2158605f, 0.0f}, houle::ToneMap{1.0f}).g));
     } else if (f == houle::PixelFormat::rgba8) {
       EXPECT_EQ(u[4 * 5 + 3], 255);
     } else if (f == houle::PixelFormat::bgra8) {
-      EXPECT_EQ(u[2], houle::srgb8_from_linear(houle::tone_map(1.0f, houle::ToneMap{1.0f})));  // red, in third place
+      EXPECT_EQ(u[2], houle::srgb8_from_linear(houle::tone_map({1.0f, 0.2158605f, 0.0f}, houle::ToneMap{1.0f}).r));  // red, in third place
     }
     EXPECT_EQ(houle::parse_pixel_format(houle::pixel_format_name(f)), f);
   }

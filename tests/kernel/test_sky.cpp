@@ -200,4 +200,30 @@ TEST(SunGlint, PeaksAtTheMirrorDirectionAndConservesEnergy) {
   EXPECT_TRUE(std::isfinite(houle::sun_glint(n, mirror, sun, 0.0f)));
 }
 
+TEST(Twilight, SkyDimsByCivilTwilightsFallThenStaysAtNight) {
+  const float degree = float(deg);
+  const auto lum = [](houle::LinearRgb c) { return houle::luminance(c); };
+  // Daylight: untouched; continuous at the horizon.
+  for (float h : {0.0f, 0.1f, 1.0f}) {
+    const houle::LinearRgb f = houle::twilight_sky_factor(h);
+    EXPECT_EQ(f.r, 1.0f);
+    EXPECT_EQ(f.g, 1.0f);
+    EXPECT_EQ(f.b, 1.0f);
+  }
+  EXPECT_NEAR(lum(houle::twilight_sky_factor(-1e-6f)), 1.0f, 1e-3f);
+  // A factor 10 per 2.5 degrees: 1/251 at the end of civil twilight.
+  EXPECT_NEAR(lum(houle::twilight_sky_factor(-2.5f * degree)), 0.1f, 2e-3f);
+  EXPECT_NEAR(lum(houle::twilight_sky_factor(-6.0f * degree)), 1.0f / 251.2f, 2e-5f);
+  // Night: the floor, blue, from about 8.8 degrees down to the nadir.
+  for (float d : {9.0f, 18.0f, 90.0f}) {
+    const houle::LinearRgb f = houle::twilight_sky_factor(-d * degree);
+    EXPECT_NEAR(lum(f), 3e-4f, 3e-6f) << d;
+    EXPECT_GT(f.b, 2.0f * f.r) << d;
+  }
+  // The sun's disc sets over its diameter.
+  EXPECT_EQ(houle::sun_disc_above_horizon(houle::sun_angular_radius_rad), 1.0f);
+  EXPECT_EQ(houle::sun_disc_above_horizon(-houle::sun_angular_radius_rad), 0.0f);
+  EXPECT_NEAR(houle::sun_disc_above_horizon(0.0f), 0.5f, 1e-6f);
+}
+
 }  // namespace

@@ -46,6 +46,7 @@ TEST(EffectPlan, DeepFlatSeaWithoutAnythingSkipsEveryOptionalStage) {
   EXPECT_FALSE(p.diffraction);
   EXPECT_FALSE(p.wall_reflection);
   EXPECT_FALSE(p.capillary_noise);
+  EXPECT_FALSE(p.surf);  // analytic trains never break here: no surf map, no foam work per pixel
   EXPECT_FALSE(p.refraction);  // 300 m of clear water and no floor grid: nothing to see below
   EXPECT_TRUE(p.specular);
   EXPECT_FALSE(p.shadows);     // the sun is up and nothing stands above the water
@@ -134,7 +135,7 @@ TEST(EffectPlan, EachStageFollowsWhatTheSceneHas) {
   // train round it at every grid node the diffracted wave reaches.
   Scene fig4 = houle::paper_fig4();
   p = houle::plan_effects(fig4, realtime);
-  EXPECT_TRUE(p.ray_tracing && p.diffraction && p.wall_reflection);
+  EXPECT_TRUE(p.ray_tracing && p.diffraction && p.wall_reflection && p.surf);
   {
     const auto f = houle::trace_wave_field(fig4);
     ASSERT_TRUE(f.ok());

@@ -228,4 +228,42 @@ TEST(SeaSurface, TheSameOnOneOrTwoThreads) {
   EXPECT_GT(one.diffraction_work().evaluations, 0u);
 }
 
+TEST(SeaSurface, BreakingMarksTheSurfZoneAndTheSurfMapFollows) {
+  // beach() up to its shoreline and beyond: a 0.4 m swell on a 1:20 beach. Where the water is too
+  // shallow for the shoaled wave (2 A > gamma_b h, gamma_b = 0.78, h below about 1.2 m) the cap holds
+  // it: the node breaks (1); offshore, in 5 m of water or more, nothing breaks. The surf map carries
+  // the same measure with the waves' direction; a deep sea has none (empty map: no foam work).
+  houle::Scene scene = beach();
+  scene.domain.y_max = 160.0;
+  const houle::SeaSurface sea = build(scene);
+  const houle::TrainField& f = sea.trains()[0];
+  const houle::TrainGrid& g = sea.grids()[0];
+  ASSERT_EQ(f.breaking.size(), std::size_t(g.nx) * g.ny);
+  const houle::Bathymetry floor(scene.floor);
+  int surf = 0, calm = 0;
+  for (std::uint32_t j = 0; j < g.ny; ++j) {
+    for (std::uint32_t i = 0; i < g.nx; ++i) {
+      const double x = g.origin_x + double(i) * g.cell, y = g.origin_y + double(j) * g.cell, h = floor.depth(x, y);
+      const float b = f.breaking[std::size_t(j) * g.nx + i];
+      if (x < 10.0 || x > 90.0) continue;  // away from the domain's side edges
+      if (h > 0.05 && h < 0.5) {
+        EXPECT_EQ(b, 1.0f) << x << ", " << y << ": " << h << " m";
+        ++surf;
+      }
+      if (h > 5.0) {
+        EXPECT_EQ(b, 0.0f) << x << ", " << y << ": " << h << " m";
+        ++calm;
+      }
+    }
+  }
+  EXPECT_GT(surf, 100);
+  EXPECT_GT(calm, 1000);
+  const houle::SurfMap m = sea.surf_map(scene);
+  ASSERT_EQ(m.nx, g.nx);
+  const std::size_t n = std::size_t(std::lround((147.0 - m.origin_y) / m.cell)) * m.nx + std::size_t(std::lround((50.0 - m.origin_x) / m.cell));
+  EXPECT_EQ(m.foam[n], 1.0f);  // 0.15 m deep
+  EXPECT_GT(m.dir_y[n], 0.5f);  // travelling shoreward
+  EXPECT_EQ(build(deep_sea()).surf_map(deep_sea()).nx, 0u);
+}
+
 }  // namespace

@@ -1,5 +1,6 @@
 #include "houle/render/framebuffer.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -66,11 +67,32 @@ std::size_t bytes_per_pixel(PixelFormat f) noexcept {
   return format_bytes[std::size_t(f)];
 }
 
-float tone_map(float linear, const ToneMap& tm) noexcept {
-  const float x = linear * tm.exposure;
+float filmic_curve(float x) noexcept {
+  if (!(x > 0.0f)) return 0.0f;  // NaN too
+  if (!(x < 1e6f)) return 1.0f;  // +inf; the curve is 1 to float precision long before
+  const float f = x * (2.43f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f);
+  return f < 1.0f ? f : 1.0f;
+}
+
+LinearRgb tone_map(LinearRgb c, const ToneMap& tm) noexcept {
+  const auto clean = [&](float v) { return v > 0.0f && v < 3e38f ? v * tm.exposure : 0.0f; };  // NaN, inf, < 0: 0
+  c = {clean(c.r), clean(c.g), clean(c.b)};
+  const float y = luminance(c);
+  if (!(y > 0.0f) || !(y < 3e38f)) return {0.0f, 0.0f, 0.0f};
+  const float y_out = filmic_curve(y), k = y_out / y;
+  c = {c.r * k, c.g * k, c.b * k};
+  // The largest channel rolls off above a knee (the shape of the old per-channel shoulder), the colour
+  // mixed with the grey of the same luminance to follow it: saturated highlights go towards white
+  // instead of flattening one channel at 1.
   constexpr float knee = 0.8f, room = 1.0f - knee;
-  if (!(x > knee)) return x > 0.0f ? x : 0.0f;  // NaN and negatives go to black
-  return knee + room * (1.0f - std::exp(-(x - knee) / room));
+  const float m = std::max(c.r, std::max(c.g, c.b));
+  if (m > knee && m > y_out) {
+    const float target = knee + room * (1.0f - std::exp(-(m - knee) / room));
+    const float keep = std::max(target - y_out, 0.0f) / (m - y_out);
+    c = {y_out + (c.r - y_out) * keep, y_out + (c.g - y_out) * keep, y_out + (c.b - y_out) * keep};
+  }
+  const auto unit = [](float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); };
+  return {unit(c.r), unit(c.g), unit(c.b)};
 }
 
 std::uint8_t srgb8_from_linear(float v) noexcept {
@@ -95,8 +117,8 @@ void encode_frame(const Framebuffer& fb, const ToneMap& tm, PixelFormat f, std::
   auto* o = reinterpret_cast<std::uint8_t*>(out.data());
   for (std::size_t i = 0; i < n; ++i, o += bpp) {
     const float* p = &fb.rgb[3 * i];
-    const std::uint8_t r = srgb8_from_linear(tone_map(p[0], tm)), g = srgb8_from_linear(tone_map(p[1], tm)),
-                       b = srgb8_from_linear(tone_map(p[2], tm));
+    const LinearRgb d = tone_map({p[0], p[1], p[2]}, tm);
+    const std::uint8_t r = srgb8_from_linear(d.r), g = srgb8_from_linear(d.g), b = srgb8_from_linear(d.b);
     o[0] = bgr ? b : r;
     o[1] = g;
     o[2] = bgr ? r : b;

@@ -80,6 +80,28 @@ LinearRgb sun_transmittance(double cos_zenith, double turbidity) {
   return {t[0], t[1], t[2]};
 }
 
+/// The display exposure for a sky (docs/rendering.md 4.5): the log-average luminance L_a of the sky
+/// from the horizon to 40 degrees up (what a coastal view shows, directly and in the sea's mirror), in
+/// the renderer's units (`scale` per channel), is brought to display_key; a sky dimmer than
+/// full_adaptation_kcd (an early dusk) is compensated for only two thirds of its fall (in log), so
+/// dusk and night stay dark. `kcd_per_unit` converts the units to kcd/m^2.
+float sky_exposure(const PreethamSky& sky, LinearRgb scale, double kcd_per_unit) {
+  constexpr double display_key = 0.18, full_adaptation_kcd = 1.0;
+  constexpr int rows = 8, columns = 32;
+  double sum = 0.0;
+  for (int i = 0; i < rows; ++i) {
+    const double e = (i + 0.5) / rows * 40.0 * std::numbers::pi / 180.0;
+    for (int j = 0; j < columns; ++j) {
+      const double a = (j + 0.5) / columns * 2.0 * std::numbers::pi;
+      const Vec3 v{float(std::cos(e) * std::cos(a)), float(std::cos(e) * std::sin(a)), float(std::sin(e))};
+      sum += std::log(std::max(double(luminance(sky.radiance(v) * scale)), 1e-30));
+    }
+  }
+  const double l_a = std::exp(sum / (rows * columns));
+  const double adaptation = std::cbrt(std::min(1.0, l_a * kcd_per_unit / full_adaptation_kcd));
+  return float(display_key / l_a * adaptation);
+}
+
 /// Sky irradiance on a horizontal surface (klx per channel: kcd/m^2 times sr), midpoint rule.
 LinearRgb sky_irradiance_klx(const PreethamSky& sky) {
   constexpr int rows = 32, columns = 64;
@@ -98,6 +120,58 @@ LinearRgb sky_irradiance_klx(const PreethamSky& sky) {
     }
   }
   return {float(e[0]), float(e[1]), float(e[2])};
+}
+
+/// Value noise in [-1, 1] on the unit lattice (a hash per lattice point, smoothstep between): the
+/// same bits on every machine (integer hashing, floor and products only).
+float lattice_noise(float x, float y) {
+  const float fx = std::floor(x), fy = std::floor(y);
+  const auto value = [](std::int32_t i, std::int32_t j) {
+    std::uint32_t h = std::uint32_t(i) * 0x8da6b343u ^ std::uint32_t(j) * 0xd8163841u;
+    h = (h ^ (h >> 15)) * 0x2c1b3c6du;
+    h ^= h >> 12;
+    return float(h & 0xffffu) * (2.0f / 65535.0f) - 1.0f;
+  };
+  const auto i = std::int32_t(fx), j = std::int32_t(fy);
+  float u = x - fx, v = y - fy;
+  u = u * u * (3.0f - 2.0f * u);
+  v = v * v * (3.0f - 2.0f * v);
+  const float a = value(i, j) + u * (value(i + 1, j) - value(i, j));
+  const float b = value(i, j + 1) + u * (value(i + 1, j + 1) - value(i, j + 1));
+  return a + v * (b - a);
+}
+
+/// The sand at p (docs/rendering.md 3.6): wet and darker (0.55 of the dry reflectance) under the
+/// water and up to wet_top above it, drying over the next metre; a grain of +-8 % (lattices of 2.3 m
+/// and 0.7 m) so a beach is not a flat plane, each lattice faded out as the pixel's footprint (m)
+/// reaches a quarter of its spacing: finer it would alias into speckle.
+LinearRgb sand_at(LinearRgb dry, const Vec3& p, float footprint) {
+  constexpr float wet_top = 0.3f, drying = 1.0f, wet = 0.55f;
+  const float u = std::clamp((p[2] - wet_top) / drying, 0.0f, 1.0f);
+  const float dryness = u * u * (3.0f - 2.0f * u);
+  const float x = std::clamp(p[0], -1e6f, 1e6f), y = std::clamp(p[1], -1e6f, 1e6f);
+  const auto fade = [&](float spacing) { return std::clamp(2.0f - footprint * 8.0f / spacing, 0.0f, 1.0f); };
+  const float grain = 1.0f + 0.05f * fade(2.3f) * lattice_noise(x * 0.43f, y * 0.43f) +
+                      0.03f * fade(0.7f) * lattice_noise(x * 1.4f + 17.0f, y * 1.4f);
+  const float k = (wet + (1.0f - wet) * dryness) * grain;
+  return {std::min(dry.r * k, 1.0f), std::min(dry.g * k, 1.0f), std::min(dry.b * k, 1.0f)};
+}
+
+/// The surf map's fields at (x, y), bilinear; all 0 outside the map.
+struct SurfSample {
+  float foam = 0.0f, dir_x = 0.0f, dir_y = 0.0f, amplitude = 0.0f;
+};
+SurfSample surf_at(const SurfMap& m, float x, float y) {
+  const float u = (x - m.origin_x) / m.cell, v = (y - m.origin_y) / m.cell;
+  if (!(u >= 0.0f && v >= 0.0f && u < float(m.nx - 1) && v < float(m.ny - 1))) return {};  // NaN too
+  const auto i = std::size_t(u), j = std::size_t(v);
+  const float a = u - float(i), b = v - float(j);
+  const std::size_t n = j * m.nx + i;
+  const auto lerp = [&](const std::vector<float>& f) {
+    const float lo = f[n] + a * (f[n + 1] - f[n]), hi = f[n + m.nx] + a * (f[n + m.nx + 1] - f[n + m.nx]);
+    return lo + b * (hi - lo);
+  };
+  return {lerp(m.foam), lerp(m.dir_x), lerp(m.dir_y), lerp(m.amplitude)};
 }
 
 bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
@@ -138,14 +212,19 @@ struct Renderer::Impl {
 
   // Light in the renderer's relative units (see renderer.hpp).
   Vec3 sun{0.0f, 0.0f, 1.0f};
+  LinearRgb sand;             ///< the dry sand's reflectance
+  SurfMap surf;               ///< where waves break (empty: nowhere)
   LinearRgb sun_rgb;          ///< a white surface facing the sun reflects this
   LinearRgb ambient;          ///< a white horizontal surface reflects this of the sky's light
-  float sky_scale = 0.0f;     ///< sky kcd/m^2 -> relative radiance
+  LinearRgb sky_scale;        ///< sky kcd/m^2 -> relative radiance (dimmed and tinted after sunset)
   Vec3 sun_water{0.0f, 0.0f, 1.0f};  ///< towards the sun under a flat sea (refracted)
   LinearRgb sun_water_rgb;    ///< the sun's light after entering the sea
   LinearRgb ambient_water;    ///< the sky's light after entering the sea
   LinearRgb sea_lit;          ///< I_sea for this lighting
   float sea_illumination = 0.0f;  ///< luminance on a white horizontal surface: scales I_sea
+  float sea_shade_illumination = 0.0f;  ///< the same in an object's shadow: the sky's share alone
+  float casters_top = -std::numeric_limits<float>::infinity();  ///< m, highest point of a box or sphere
+  float exposure = 1.0f;          ///< display_exposure()
   std::array<float, 3> rgb_absorption{};
 
   std::unique_ptr<detail::ThreadPool> pool;
@@ -175,11 +254,16 @@ struct Renderer::Impl {
   void add_aovs(const Scratch& s, std::uint32_t row, int sample) const noexcept;
   LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
   LinearRgb sky_radiance(const Vec3& d) const noexcept { return sky.lookup(d) * sky_scale; }
-  LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept;
-  LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept;
-  LinearRgb through_water(LinearRgb object, float distance, float light_path) const noexcept;
-  LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept;
-  LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept;
+  // `travelled`: m from the camera to where the ray starts (0 for primary rays): with the hit's t it
+  // gives the pixel's footprint there.
+  LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept;
+  LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept;
+  LinearRgb through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept;
+  LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float travelled) const noexcept;
+  LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float illumination,
+                        float travelled) const noexcept;
+  bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
+  float foam_cover(const Vec3& p, float grad_x, float grad_y, float footprint) const noexcept;
   float sun_path_in_water(const Vec3& p) const noexcept {
     return sun_water[2] > 0.0f ? std::max(0.0f, -p[2]) / sun_water[2] : 0.0f;
   }
@@ -187,10 +271,10 @@ struct Renderer::Impl {
 
 // ---- Shading ----------------------------------------------------------------------------------
 
-LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept {
+LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept {
   Vec3 n = h.normal;
   if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};  // the side the ray sees
-  const LinearRgb albedo = objects.albedo(h);
+  const LinearRgb albedo = h.kind == HitKind::floor ? sand_at(sand, p, (travelled + h.t) * camera.pixel_angle) : objects.albedo(h);
   LinearRgb light = ambient * (0.5f * (1.0f + n[2]));
   const float cos_sun = dot(n, sun);
   if (cos_sun > 0.0f) {
@@ -201,19 +285,24 @@ LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const V
   return albedo * light;
 }
 
-LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d) const noexcept {
+LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept {
   Vec3 n = h.normal;
   if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};
-  const LinearRgb albedo = objects.albedo(h);
+  const LinearRgb albedo = h.kind == HitKind::floor ? sand_at(sand, p, (travelled + h.t) * camera.pixel_angle) : objects.albedo(h);
   LinearRgb light = ambient_water * (0.5f * (1.0f + n[2]));
   const float cos_sun = dot(n, sun_water);
   if (cos_sun > 0.0f && sun_water[2] > 0.0f) {
-    // Shadows of boxes and spheres up to the still sea level. Not of the floor: the refracted sun is
-    // within 48 degrees of the zenith, steeper than sea beds, and a walk per pixel would cost as much as
-    // the refracted ray itself. The waves' own focusing and shadowing are ignored.
+    // Shadows of boxes and spheres along the refracted sun up to the still sea level, and on from there
+    // along the sun in air (docs/rendering.md 3.5): a jetty's shadow on the sea bed is the shadow of the
+    // whole jetty, not of its submerged foot alone (which drew a thin line offset from it). Not of the
+    // floor: the refracted sun is within 48 degrees of the zenith, steeper than sea beds, and a walk per
+    // pixel would cost as much as the refracted ray itself. The waves' own focusing and shadowing are
+    // ignored.
     const float offset = 1e-3f + 1e-4f * h.t;
-    const double reach = double(std::max(0.0f, -p[2])) / double(sun_water[2]);
-    const bool lit = !quality.shadows || !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
+    const float depth = std::max(0.0f, -p[2]);
+    const double reach = double(depth) / double(sun_water[2]);
+    bool lit = !quality.shadows || !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
+    if (lit) lit = sunlit(along(p, sun_water, depth / sun_water[2]), sun, offset);
     if (lit) light = light + sun_water_rgb * cos_sun;
   }
   return albedo * light;
@@ -221,37 +310,66 @@ LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const
 
 /// Eq. 12 for `object` seen through `distance` m of water, with the object's light having come down
 /// `light_path` m of water itself (docs/rendering.md 3.4's refinement, exact in the LUT because K is a
-/// per-wavelength exponential): K(d + s) I_obj + (1 - K(d)) I_sea.
-LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float light_path) const noexcept {
+/// per-wavelength exponential): K(d + s) I_obj + (1 - K(d)) I_sea, I_sea lit by `illumination`
+/// (sea_illumination, or less in an object's shadow).
+LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept {
   if (quality.spectral_absorption) {
-    const LinearRgb sum = water->absorbed(object, distance + light_path) + water->sea_part(distance) * sea_illumination;
+    const LinearRgb sum = water->absorbed(object, distance + light_path) + water->sea_part(distance) * illumination;
     return gamut_map_to_grey(sum);
   }
+  const LinearRgb sea = water->sea_colour() * illumination;
   const float k[3] = {std::exp(-rgb_absorption[0] * distance), std::exp(-rgb_absorption[1] * distance),
                       std::exp(-rgb_absorption[2] * distance)};
   const float ks[3] = {std::exp(-rgb_absorption[0] * light_path), std::exp(-rgb_absorption[1] * light_path),
                        std::exp(-rgb_absorption[2] * light_path)};
-  return {object.r * k[0] * ks[0] + sea_lit.r * (1.0f - k[0]), object.g * k[1] * ks[1] + sea_lit.g * (1.0f - k[1]),
-          object.b * k[2] * ks[2] + sea_lit.b * (1.0f - k[2])};
+  return {object.r * k[0] * ks[0] + sea.r * (1.0f - k[0]), object.g * k[1] * ks[1] + sea.g * (1.0f - k[1]),
+          object.b * k[2] * ks[2] + sea.b * (1.0f - k[2])};
 }
 
 /// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky.
-LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
+LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
+                                     float travelled) const noexcept {
   if (quality.reflect_objects) {
     const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
-    if (h.kind != HitKind::none) return lit_in_air(h, along(p, d, h.t), d);
+    if (h.kind != HitKind::none) return lit_in_air(h, along(p, d, h.t), d, travelled);
   }
   return sky_radiance(d);
 }
 
 /// Radiance arriving at p from direction d through water: eq. 12 on the floor or an object within
 /// reach, I_sea otherwise.
-LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
+LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
+                                       float illumination, float travelled) const noexcept {
   const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0,
                                                   double(std::min(underwater_reach, max_distance)));
-  if (h.kind == HitKind::none) return sea_lit;
+  if (h.kind == HitKind::none) return water->sea_colour() * illumination;
   const Vec3 q = along(p, d, h.t);
-  return through_water(lit_in_water(h, q, d), h.t, sun_path_in_water(q));
+  return through_water(lit_in_water(h, q, d, travelled), h.t, sun_path_in_water(q), illumination);
+}
+
+/// How much of the sea at hit p (surface gradient grad) foam covers (docs/rendering.md 3.7): where the
+/// surf map says waves break, on the crests (their height against the breaking wave's amplitude)
+/// and most on their front faces (the surface falling along the waves' travel), with a thinner sheet
+/// of spent foam between them; patchy, the patches faded out as the footprint (m) grows past them.
+float Renderer::Impl::foam_cover(const Vec3& p, float grad_x, float grad_y, float footprint) const noexcept {
+  const SurfSample s = surf_at(surf, p[0], p[1]);
+  if (!(s.foam > 0.0f)) return 0.0f;
+  const float up = std::clamp(p[2] / std::max(s.amplitude, 0.05f) + 0.3f, 0.0f, 1.0f);
+  const float crest = up * up * (3.0f - 2.0f * up);
+  const float moving = s.dir_x * s.dir_x + s.dir_y * s.dir_y;  // 0 at a wall's toe: every crest foams
+  const float front = moving > 0.25f ? std::clamp(-5.0f * (grad_x * s.dir_x + grad_y * s.dir_y), 0.0f, 1.0f) : 1.0f;
+  const float patches = std::clamp(2.0f - footprint * 8.0f / 1.5f, 0.0f, 1.0f);
+  const float texture = 0.7f + 0.3f * patches * lattice_noise(p[0] * 0.8f + 5.0f, p[1] * 0.8f);
+  return std::clamp(s.foam * (0.2f + crest * (0.3f + 0.7f * front)) * texture, 0.0f, 1.0f);
+}
+
+/// Whether the sun reaches the sea's surface at p past the boxes and spheres (docs/rendering.md 3.5):
+/// its glint and its share of the water's light are in their shadow otherwise. The ray goes only as
+/// far as the highest object.
+bool Renderer::Impl::sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept {
+  if (!quality.shadows || !(sun[2] > 0.0f) || !(casters_top > p[2])) return true;
+  const double reach = double(casters_top - p[2]) / double(sun[2]) + 1.0;
+  return !objects.occluded(make_ray(p, offset_normal, offset, sun), 0.0, reach, false);
 }
 
 LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept {
@@ -271,8 +389,8 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     }
     ++c.object;
     const Vec3 p = along(camera.position, d, h.t);
-    if (!camera_under) return lit_in_air(h, p, d);
-    return through_water(lit_in_water(h, p, d), h.t, sun_path_in_water(p));
+    if (!camera_under) return lit_in_air(h, p, d, 0.0f);
+    return through_water(lit_in_water(h, p, d, 0.0f), h.t, sun_path_in_water(p), sea_illumination);
   }
   ++c.sea;
   const float t = s.a[Scratch::t][i];
@@ -294,8 +412,11 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
 
   if (status == MarchStatus::hit) {
     lift(r);
-    const LinearRgb reflected = trace_air(p, n, offset, r);
-    const LinearRgb transmitted = kr < 1.0f ? trace_water(p, n_down, offset, tr) : LinearRgb{};
+    // In an object's shadow the sea loses the glint and the sun's share of its own light.
+    const bool lit = sunlit(p, n, offset);
+    const LinearRgb reflected = trace_air(p, n, offset, r, t);
+    const LinearRgb transmitted =
+        kr < 1.0f ? trace_water(p, n_down, offset, tr, lit ? sea_illumination : sea_shade_illumination, t) : LinearRgb{};
     // The sun's glint, widened by the slope variance of the octaves the LOD left out at this pixel.
     float glint = 0.0f;
     const Vec3 v{-d[0], -d[1], -d[2]};
@@ -305,21 +426,27 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     const float cos_h = dot(n, half);
     // Skip the lobe where it is below e^-30 of its peak (tan^2 / 2 sigma^2 > 30): most of the sea.
     if (cos_h > 0.0f && (1.0f - cos_h * cos_h) < 60.0f * (variance + sun_disc_slope_variance) * cos_h * cos_h) {
-      glint = pi * sun_glint(n, v, sun, variance);
-      if (glint > 0.0f && quality.shadows && objects.occluded(make_ray(p, n, offset, sun), 0.0, double(max_distance))) {
-        glint = 0.0f;
-      }
+      glint = lit ? pi * sun_glint(n, v, sun, variance) : 0.0f;
     }
-    return reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
+    const LinearRgb surface_light = reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
+    if (surf.nx == 0) return surface_light;
+    const float cover = foam_cover(p, s.a[Scratch::gx][i], s.a[Scratch::gy][i], t * camera.pixel_angle);
+    if (!(cover > 0.0f)) return surface_light;
+    // Foam is a white diffuse layer on the water, lit like an object's face along the normal.
+    constexpr float foam_albedo = 0.85f;
+    const float cos_sun = dot(n, sun);
+    const LinearRgb foam =
+        (ambient * (0.5f * (1.0f + n[2])) + (lit && cos_sun > 0.0f ? sun_rgb * cos_sun : LinearRgb{})) * foam_albedo;
+    return surface_light * (1.0f - cover) + foam * cover;
   }
   // From below: the interface sent r back down into the sea and tr (outside Snell's window: none) up.
-  const LinearRgb reflected = trace_water(p, n_down, offset, r);
+  const LinearRgb reflected = trace_water(p, n_down, offset, r, sea_illumination, t);
   LinearRgb transmitted{};
   if (kr < 1.0f) {
     lift(tr);
-    transmitted = trace_air(p, n, offset, tr);
+    transmitted = trace_air(p, n, offset, tr, t);
   }
-  return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f);
+  return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
 }
 
 void Renderer::Impl::shade_sample(Scratch& s) noexcept {
@@ -499,22 +626,45 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
 
   // Light. The relative unit is E_ref / pi (kcd/m^2) with E_ref the sun's illuminance (floored): a
   // white Lambertian surface facing the sun then has luminance E_sun / E_ref (1 for a sun above ~15 deg).
+  // A sun below the horizon lights nothing directly (its disc sets over its diameter), and the sky of a
+  // sun on the horizon is dimmed and turns blue with the sun's depression (docs/rendering.md 6.4).
   Impl& r = *impl;
   r.sun = sky->sun_direction();
+  r.sand = scene.floor.sand;
+  const SurfMap& surf = scene.surf;
+  const std::size_t surf_nodes = std::size_t(surf.nx) * surf.ny;
+  if ((surf.nx == 0) != (surf.ny == 0) || (surf.nx != 0 && (surf.nx < 2 || surf.ny < 2)) ||
+      !(std::isfinite(surf.cell) && surf.cell > 0.0f) || surf.foam.size() != surf_nodes ||
+      surf.dir_x.size() != surf_nodes || surf.dir_y.size() != surf_nodes || surf.amplitude.size() != surf_nodes) {
+    return Error{"surf", "nx, ny >= 2 (or both 0), a cell > 0 m and nx * ny values in each field"};
+  }
+  r.surf = surf;
+  const float elevation = std::asin(std::clamp(r.sun[2], -1.0f, 1.0f));
   const LinearRgb transmittance = sun_transmittance(double(r.sun[2]), double(scene.turbidity));
   const double e_sun = solar_constant_klx * double(luminance(transmittance));
   const double e_ref = std::max(e_sun, min_reference_klx);
-  r.sun_rgb = transmittance * float(solar_constant_klx / e_ref);
-  r.sky_scale = float(std::numbers::pi / e_ref);
-  r.ambient = sky_irradiance_klx(sky.value()) * float(1.0 / e_ref);
+  const LinearRgb twilight = twilight_sky_factor(elevation);
+  r.sun_rgb = transmittance * float(solar_constant_klx / e_ref * double(sun_disc_above_horizon(elevation)));
+  r.sky_scale = twilight * float(std::numbers::pi / e_ref);
+  r.ambient = sky_irradiance_klx(sky.value()) * twilight * float(1.0 / e_ref);
   if (r.sun[2] > 0.0f) {
     const ReflectRefract sun_in = reflect_refract({-r.sun[0], -r.sun[1], -r.sun[2]}, {0.0f, 0.0f, 1.0f});
     r.sun_water = {-sun_in.refracted[0], -sun_in.refracted[1], -sun_in.refracted[2]};
     r.sun_water_rgb = r.sun_rgb * (1.0f - sun_in.reflectance);
   }
   r.ambient_water = r.ambient * sky_water_transmission;
+  r.exposure = sky_exposure(sky.value(), r.sky_scale, e_ref / std::numbers::pi);
   r.sea_illumination = luminance(r.sun_rgb) * std::max(r.sun[2], 0.0f) + luminance(r.ambient);
+  r.sea_shade_illumination = luminance(r.ambient);
   r.sea_lit = r.water->sea_colour() * r.sea_illumination;
+  // As high as a box or sphere can reach: a moving one (Renderer::move_box) anywhere within its motion
+  // of its place, a box tilted any way (its half diagonal).
+  for (const RenderBox& b : scene.boxes) {
+    const auto& e = b.half_extent;
+    const float reach = b.motion > 0.0f ? b.motion + std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) : e[2];
+    r.casters_top = std::max(r.casters_top, b.center[2] + reach);
+  }
+  for (const RenderSphere& s : scene.spheres) r.casters_top = std::max(r.casters_top, s.center[2] + s.motion + s.radius);
 
   auto pool = detail::ThreadPool::create(threads);
   if (!pool) return pool.error();
@@ -530,6 +680,7 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 Renderer::~Renderer() = default;
 
+float Renderer::display_exposure() const noexcept { return impl_->exposure; }
 const FrameTimes& Renderer::last_times() const noexcept { return impl_->times; }
 const RenderCounters& Renderer::last_counters() const noexcept { return impl_->counters; }
 std::uint32_t Renderer::width() const noexcept { return impl_->width; }
@@ -597,7 +748,7 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   r.camera_under = camera.position[2] < surface.height_at(camera.position[0], camera.position[1]);
   // Below the sea's slab a primary ray from above has crossed the sea: the floor matters only above it.
   const float grid_min = surface.view().global.h_min;
-  const float noise_bound = r.noise != nullptr ? capillary_height_bound(r.noise->params, float(r.noise->octaves)) : 0.0f;
+  const float noise_bound = r.noise != nullptr ? capillary_height_bound(r.noise->params, capillary_top_level(r.noise->params)) : 0.0f;
   r.primary_floor_lo = r.camera_under ? -std::numeric_limits<double>::infinity()
                                       : double(std::min(surface.z_min(), grid_min - noise_bound)) - 0.01;
   for (auto& s : r.scratch) {

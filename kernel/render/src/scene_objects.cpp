@@ -164,7 +164,7 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
 void SceneObjects::build_clearance() {
   // Per cell, the highest sample of the cells within clear_cells of it in each axis: the maximum of
   // the cells' corner maxima over a (2 clear_cells + 1)^2 window, separably (rows, then columns).
-  const std::int64_t cx = level_nx_[0], cy = level_ny_[0], k = clear_cells;
+  const std::int64_t cx = level_nx_[0], cy = level_ny_[0];
   std::vector<float> corner(std::size_t(cx * cy)), rows(corner.size());
   for (std::int64_t j = 0; j < cy; ++j) {
     for (std::int64_t i = 0; i < cx; ++i) {
@@ -172,7 +172,8 @@ void SceneObjects::build_clearance() {
           std::max(std::max(sample(i, j), sample(i + 1, j)), std::max(sample(i, j + 1), sample(i + 1, j + 1)));
     }
   }
-  const auto window_max = [k](const float* p, std::int64_t n, std::int64_t step, std::int64_t at) {
+  const auto window_max = [](const float* p, std::int64_t n, std::int64_t step, std::int64_t at) {
+    constexpr std::int64_t k = clear_cells;
     float m = -std::numeric_limits<float>::infinity();
     for (std::int64_t a = std::max<std::int64_t>(0, at - k); a <= std::min(n - 1, at + k); ++a) m = std::max(m, p[a * step]);
     return m;

@@ -186,6 +186,30 @@ LinearRgb SkyLut::lookup(std::array<float, 3> d) const noexcept {
   return {bilerp(0), bilerp(1), bilerp(2)};
 }
 
+// ---- The sun below the horizon ----
+
+LinearRgb twilight_sky_factor(float sun_elevation_rad) noexcept {
+  if (!(sun_elevation_rad < 0.0f)) return {1.0f, 1.0f, 1.0f};
+  constexpr float per_degree = -0.4f;  // log10 of the sky's luminance per degree of depression
+  constexpr float night = 3e-4f;
+  constexpr float blue_depression_deg = 6.0f;  // the tint is whole at the end of civil twilight
+  // The blue hour's tint, luminance 1: the sky's red fades faster than its blue once the sun's light
+  // reaches it only through the ozone layer's Chappuis band; green is kept, so the glow stays orange.
+  constexpr LinearRgb blue{0.82f, 0.98f, 1.74f};
+  const float depression_deg = std::min(-sun_elevation_rad * float(180.0 / pi), 90.0f);
+  const float level = std::max(std::pow(10.0f, per_degree * depression_deg), night);
+  const float u = std::min(depression_deg / blue_depression_deg, 1.0f);
+  const float w = u * u * (3.0f - 2.0f * u);
+  return {level * (1.0f + w * (blue.r - 1.0f)), level * (1.0f + w * (blue.g - 1.0f)), level * (1.0f + w * (blue.b - 1.0f))};
+}
+
+float sun_disc_above_horizon(float sun_elevation_rad) noexcept {
+  // The disc's share above the horizon as a linear ramp over its diameter: the visible area's exact
+  // shape would change nothing a viewer sees at the few pixels it covers.
+  const float u = (sun_elevation_rad + sun_angular_radius_rad) / (2.0f * sun_angular_radius_rad);
+  return std::clamp(u, 0.0f, 1.0f);
+}
+
 // ---- Sun ----
 
 float gaussian_slope_density(float cos_theta_h, float slope_variance) noexcept {

@@ -85,9 +85,9 @@ constexpr double surface_tension = 0.074 / 1000.0;  // sigma / rho, m^3/s^2
 constexpr double drift_spread[CapillaryFrame::max_octaves] = {0.0, 0.45, -0.35, 0.8, -0.6, 0.2, -0.9, 0.55};
 
 /// Octave weight W_i(level), i 0-based, as the kernel computes it (in float).
-float octave_weight(float level, int i) {
+float octave_weight(float level, int i, float fade_rate) {
   level = level > 0.0f ? level : 0.0f;  // NaN too, as in the kernel
-  float t = level - float(i);
+  float t = (level - float(i)) * fade_rate;
   t = t < 1.0f ? t : 1.0f;
   t = t > 0.0f ? t : 0.0f;
   return t * t * (3.0f - 2.0f * t);
@@ -144,6 +144,7 @@ Expected<CapillaryFrame> make_capillary_frame(const CapillaryParams& p, double t
   CapillaryFrame f{};
   f.params = p;
   f.octaves = std::uint32_t(p.max_octaves);
+  f.fade_rate = capillary_fade_rate(p);
   const double period = CapillaryFrame::period;
   double finest = p.base_wavelength;
   for (int i = 0; i < p.max_octaves; ++i) {
@@ -195,12 +196,20 @@ float capillary_footprint(float distance_m, float pixel_angle_rad, float sin_gra
   return distance_m * pixel_angle_rad / s;
 }
 
+float capillary_fade_rate(const CapillaryParams& p) noexcept {
+  return std::min(1.0f, float(std::log2(double(p.lacunarity))));
+}
+
+float capillary_top_level(const CapillaryParams& p) noexcept {
+  return p.max_octaves > 0 ? float(p.max_octaves - 1) + 1.0f / capillary_fade_rate(p) : 0.0f;
+}
+
 float octave_level(const CapillaryParams& p, float footprint_m) noexcept {
-  const float top = float(p.max_octaves);
+  const float top = capillary_top_level(p);
   if (std::isnan(footprint_m)) return 0.0f;
   if (!(footprint_m > 0.0f)) return top;
   const double l = std::log2(double(p.base_wavelength) / (double(p.samples_per_wavelength) * footprint_m)) /
-                       std::log2(double(p.lacunarity)) + 1.0;
+                       std::log2(double(p.lacunarity)) + 1.0 / double(capillary_fade_rate(p));
   return l <= 0.0 ? 0.0f : (l >= top ? top : float(l));
 }
 
@@ -210,13 +219,13 @@ float octave_level(const CapillaryParams& p, float distance_m, float pixel_angle
 
 float capillary_height_bound(const CapillaryParams& p, float level) noexcept {
   double sum = 0.0;
-  for (int i = 0; i < p.max_octaves; ++i) sum += detail::octave_weight(level, i) * std::pow(double(p.lacunarity), -double(i));
+  for (int i = 0; i < p.max_octaves; ++i) sum += detail::octave_weight(level, i, capillary_fade_rate(p)) * std::pow(double(p.lacunarity), -double(i));
   return float(double(p.amplitude) * detail::value_overshoot * sum * detail::bound_margin);
 }
 
 float capillary_slope_bound(const CapillaryParams& p, float level) noexcept {
   double sum = 0.0;
-  for (int i = 0; i < p.max_octaves; ++i) sum += detail::octave_weight(level, i);
+  for (int i = 0; i < p.max_octaves; ++i) sum += detail::octave_weight(level, i, capillary_fade_rate(p));
   return float(double(p.amplitude) / p.base_wavelength * detail::gradient_overshoot * sum * detail::bound_margin);
 }
 
@@ -228,7 +237,7 @@ float octave_slope_variance(const CapillaryParams& p) noexcept {
 float dropped_slope_variance(const CapillaryParams& p, float level) noexcept {
   double missing = 0.0;
   for (int i = 0; i < p.max_octaves; ++i) {
-    const double w = detail::octave_weight(level, i);
+    const double w = detail::octave_weight(level, i, capillary_fade_rate(p));
     missing += 1.0 - w * w;
   }
   return float(octave_slope_variance(p) * missing);

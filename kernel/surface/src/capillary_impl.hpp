@@ -125,7 +125,7 @@ inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, const std::int
     const V fi(static_cast<float>(i));
     // Weights decrease with i: once no lane needs octave i, none needs the finer ones.
     if (!simd::any(level > fi)) break;
-    V t = level - fi;
+    V t = (level - fi) * f.fade_rate;
     t = simd::select(t < 1.0f, t, V(1.0f));
     t = simd::select(t > 0.0f, t, V(0.0f));
     // Per-lane weight 1, smoothstep(D) or 0: the result of a lane never depends on its companions.

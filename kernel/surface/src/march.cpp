@@ -12,6 +12,8 @@
 namespace houle {
 namespace {
 
+constexpr float slab_margin = 1e-3f;  // m
+
 /// Cone, knobs and noise: everything but the surface.
 void set_ray_params(detail::MarchContext& c, const MarchParams& p, float grid_min, float grid_max) noexcept {
   // Knobs are clamped to sane values here: the frame loop has no error path.
@@ -31,27 +33,38 @@ void set_ray_params(detail::MarchContext& c, const MarchParams& p, float grid_mi
     c.noise = &n;
     c.octaves = std::min<std::uint32_t>(n.octaves, CapillaryFrame::max_octaves);
     float top = 0.0f;
+    const double s = double(capillary_fade_rate(np));
+    CapillaryParams first = np;
     for (std::uint32_t i = 0; i < c.octaves; ++i) {
-      // Octave i's share of the published bounds; the 1e-4 margin covers the float differences.
-      const float lo = capillary_height_bound(np, float(i)), hi = capillary_height_bound(np, float(i + 1));
-      const float slo = capillary_slope_bound(np, float(i)), shi = capillary_slope_bound(np, float(i + 1));
+      // Octave i's share of the published bounds (those of the first i + 1 octaves, whole, less those
+      // of the first i); the 1e-4 margin covers the float differences.
+      first.max_octaves = int(i);
+      const float lo = capillary_height_bound(first, capillary_top_level(first));
+      const float slo = capillary_slope_bound(first, capillary_top_level(first));
+      first.max_octaves = int(i + 1);
+      const float hi = capillary_height_bound(first, capillary_top_level(first));
+      const float shi = capillary_slope_bound(first, capillary_top_level(first));
       c.octave_height[i] = (hi - lo) * (1.0f + 1e-4f);
       c.octave_slope[i] = (shi - slo) * (1.0f + 1e-4f);
       noise_total += c.octave_height[i];
-      // level > i  <=>  log_k(lambda_1 sin / (N cone)) + 1 > i  <=>  cone / sin < (lambda_1 / N) k^(1 - i).
+      // level > i  <=>  log_k(lambda_1 sin / (N cone)) + 1/s > i  <=>  cone / sin < (lambda_1 / N) k^(1/s - i).
       c.octave_cone[i] = float(double(np.base_wavelength) / double(np.samples_per_wavelength) *
-                               std::pow(double(np.lacunarity), 1.0 - double(i)) * (1.0 + 1e-3));
+                               std::pow(double(np.lacunarity), 1.0 / s - double(i)) * (1.0 + 1e-3));
       top = std::max(top, c.octave_height[i]);
     }
     const double log2_k = std::log2(double(np.lacunarity));
-    c.max_level = float(c.octaves);
-    c.level_offset = float(std::log2(double(np.base_wavelength) / double(np.samples_per_wavelength)) / log2_k + 1.0);
+    c.max_level = capillary_top_level(np);
+    c.level_offset = float(std::log2(double(np.base_wavelength) / double(np.samples_per_wavelength)) / log2_k + 1.0 / s);
     c.inv_log2_lacunarity = float(1.0 / log2_k);
-    // smoothstep' <= 1.5 on the one octave fading at a time; |dlevel/dt| = pixel_angle / (cone ln k).
-    c.level_rate = float(1.5 * double(top) / std::log(double(np.lacunarity)) * (1.0 + 1e-4));
+    // smoothstep' <= 1.5 s on each octave fading, at most ceil(1/s) at a time; |dlevel/dt| =
+    // pixel_angle / (cone ln k).
+    c.level_rate = float(1.5 * s * std::ceil(1.0 / s) * double(top) / std::log(double(np.lacunarity)) * (1.0 + 1e-4));
   }
-  c.z_lo = grid_min - noise_total;
-  c.z_hi = grid_max + noise_total;
+  // The slab reaches a millimetre past the surface's bounds: a ray's z at the slab's end is rounded,
+  // and at exactly the bound it could end a rounding above a trough (or a flat sea, whose slab is
+  // empty) and miss it.
+  c.z_lo = grid_min - noise_total - slab_margin;
+  c.z_hi = grid_max + noise_total + slab_margin;
 }
 
 detail::MarchContext make_context(const SurfaceFrame& frame, const MarchParams& p) noexcept {

@@ -51,12 +51,13 @@ struct MarchContext {
   float octave_height[CapillaryFrame::max_octaves] = {};
   float octave_slope[CapillaryFrame::max_octaves] = {};
   /// Octave i can have weight (level > i) only while cone width / sin(grazing) < octave_cone[i]
-  /// (= (lambda_1 / N) k^(1 - i), times 1 + 1e-3 so that the float level never disagrees).
+  /// (= (lambda_1 / N) k^(1/s - i), s = capillary_fade_rate, times 1 + 1e-3 so that the float level
+  /// never disagrees).
   float octave_cone[CapillaryFrame::max_octaves] = {};
-  float max_level = 0.0f;           ///< n_max
-  float level_offset = 0.0f;        ///< log2(lambda_1 / N) / log2(k) + 1: level = offset + (log2 sin - log2 footprint) / log2 k
+  float max_level = 0.0f;           ///< capillary_top_level
+  float level_offset = 0.0f;        ///< log2(lambda_1 / N) / log2(k) + 1/s: level = offset + (log2 sin - log2 footprint) / log2 k
   float inv_log2_lacunarity = 0.0f;
-  /// |dN/dlevel| <= 1.5 max_i octave_height, |dlevel/dt| <= pixel_angle / (cone ln k): their product
+  /// |dN/dlevel| <= 1.5 s ceil(1/s) max_i octave_height, |dlevel/dt| <= pixel_angle / (cone ln k): their product
   /// without the 1/cone factor.
   float level_rate = 0.0f;
 };

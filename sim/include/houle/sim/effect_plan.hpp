@@ -26,6 +26,9 @@ struct EffectPlan {
   bool diffraction = false;      ///< a pierhead in water meets a traced train (DwtSettings::diffraction on)
   bool wall_reflection = false;  ///< a wall with alpha > 0 meets a traced train
   bool capillary_noise = false;  ///< ripples with amplitude > 0 and at least one octave
+  /// Surf and foam can exist: some train is traced (only traced trains break, and walls meet only
+  /// them). The scene build then finds where (SeaSurface::surf_map); nothing breaking costs nothing.
+  bool surf = false;
   // ---- Per frame (renderer) ----
   /// Something under the surface can be seen: a submerged object or wall, or a floor shallower than
   /// the depth where the round trip through the water leaves less than 1/1024 of the light.

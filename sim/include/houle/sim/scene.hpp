@@ -46,6 +46,8 @@ struct FloorBase {
   /// Planar beach only: a point of the still-water shoreline (depth 0 there). Landward of it the
   /// floor keeps rising with the same slope (negative depth).
   Point2 shoreline{0.0, 0.0};
+  /// Linear RGB reflectance of the dry sand (land and sea bed); wet sand is darker (docs/rendering.md 3.6).
+  LinearRgb sand_colour{0.55f, 0.5f, 0.4f};
 };
 
 /// Elliptic mound (height > 0, a shoal or a submerged rock) or pit (height < 0).

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "houle/render/renderer.hpp"
 #include "houle/runtime/expected.hpp"
 #include "houle/surface/train_grid.hpp"
 #include "houle/sim/scene.hpp"
@@ -37,6 +38,9 @@ struct TrainField {
   double omega = 0.0;  ///< rad/s
   double phase = 0.0;  ///< rad, the train's phase offset
   std::vector<float> phi, b_re, b_im, kx, ky, fold, lean;
+  /// Per node, how much the wave breaks (docs/rendering.md 3.7): 1 where its height is within 20 % of
+  /// the breaking limit (gamma_b h, or the Stokes limit), rising from 0 at 55 % of it; 0 below.
+  std::vector<float> breaking;
   /// K' on the grid: |B| against the incident wave without the structures (0 where no wave arrived),
   /// or empty: 1 everywhere (no pierhead diffracts this train). Only probe() reads it.
   std::vector<float> diffraction;
@@ -95,6 +99,11 @@ class SeaSurface {
 
   /// Train `train` of the scene at (x, y) at the time set last.
   TrainProbe probe(std::size_t train, float x, float y) const noexcept;
+
+  /// Where the waves break, for the renderer's foam (docs/rendering.md 3.7): the traced trains'
+  /// breaking measure, the strongest at each node with its direction and amplitude, and foam at the toes
+  /// of the scene's walls where waves reach them. Empty (nx = ny = 0) when nothing breaks.
+  SurfMap surf_map(const Scene& scene) const;
 
   /// The scene's trains in order (each with its reflected waves).
   const std::vector<TrainField>& trains() const noexcept { return trains_; }

@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "houle/render/colour.hpp"
+
 namespace houle {
 
 /// Per-pixel channels beside the image (arbitrary output variables, for compositing), each asked
@@ -50,12 +52,20 @@ std::string_view pixel_format_name(PixelFormat f) noexcept;
 std::optional<PixelFormat> parse_pixel_format(std::string_view name) noexcept;
 std::size_t bytes_per_pixel(PixelFormat f) noexcept;
 
-/// The display transform: exposure, then a soft shoulder above 0.8 that rolls highlights (the sun's
-/// glint) smoothly into 1 instead of clipping them (C1 at the knee).
+/// The display transform (docs/rendering.md 4.5): scene-referred linear radiance times the exposure,
+/// then a filmic curve on the luminance (Narkowicz's fit of the ACES curve with its asymptote put at 1:
+/// a slight toe, highlights that roll off towards 1 and never reach it), the colour scaled with it and,
+/// where its largest channel passes 0.8, desaturated towards white at the same luminance so that
+/// channel rolls off into 1 (1 - e^-(m - 0.8)/0.2 above the knee) instead of clipping. Hue is kept; a
+/// bright glint is a white core in a coloured halo, not a flat blob. NaN, infinite and negative values
+/// go to black.
 struct ToneMap {
   float exposure = 1.0f;
 };
-float tone_map(float linear, const ToneMap& tm) noexcept;
+/// Display-referred linear sRGB, each channel in [0, 1].
+LinearRgb tone_map(LinearRgb linear, const ToneMap& tm) noexcept;
+/// The curve alone, on a luminance (>= 0): f(x) = x (2.43 x + 0.03) / (x (2.43 x + 0.59) + 0.14), below 1.
+float filmic_curve(float luminance) noexcept;
 
 /// Linear [0, 1] to the sRGB code value 0..255, correctly rounded (a table lookup plus one
 /// comparison; equal to rounding the exact sRGB curve, tested over every float in [0, 1]).

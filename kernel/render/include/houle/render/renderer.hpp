@@ -93,8 +93,20 @@ struct FloorGrid {
   LinearRgb sand{0.55f, 0.5f, 0.4f};       ///< diffuse reflectance of the ground
 };
 
+/// Where waves break, built once per scene (docs/rendering.md 3.7): per node of a grid (node (i, j) at
+/// (origin_x + i cell, origin_y + j cell), element j nx + i), how much foam the sea carries there, in
+/// [0, 1], the direction the breaking waves travel (unit, or 0 at the toes of walls, where foam
+/// lines the crests whatever their direction) and their amplitude (m). Bilinear between nodes, 0
+/// outside. nx = ny = 0: nothing breaks, and the renderer does no work for it.
+struct SurfMap {
+  float origin_x = 0.0f, origin_y = 0.0f, cell = 1.0f;  ///< m
+  std::uint32_t nx = 0, ny = 0;
+  std::vector<float> foam, dir_x, dir_y, amplitude;  ///< nx * ny each
+};
+
 struct RenderScene {
   FloorGrid floor;
+  SurfMap surf;
   std::vector<RenderBox> boxes;
   std::vector<RenderSphere> spheres;
   std::array<float, 3> sun_direction{0.0f, 0.5f, 0.8660254f};  ///< towards the sun (normalised on use)
@@ -176,6 +188,10 @@ class Renderer {
   /// SurfaceFrame::fill on this renderer's threads (the per-frame retessellation shares them with
   /// render()): `sampler` must allow concurrent calls. The frame is the same as fill() gives.
   void fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept;
+
+  /// The exposure (ToneMap::exposure) this scene's sun and sky ask for, fixed per scene so that frame n
+  /// stays a pure function of the scene and n (docs/rendering.md 4.5).
+  float display_exposure() const noexcept;
 
   const FrameTimes& last_times() const noexcept;
   const RenderCounters& last_counters() const noexcept;

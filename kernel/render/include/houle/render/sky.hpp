@@ -76,6 +76,17 @@ class SkyLut {
   std::vector<float> texels_;  // height rows of (width + 1) RGB texels
 };
 
+// ---- The sun below the horizon ------------------------------------------------------------------
+
+/// The factor (per linear sRGB channel) by which the sky of a sun on the horizon (PreethamSky puts a
+/// lower sun there) is dimmed and tinted for a sun at `sun_elevation_rad` (docs/rendering.md 6.4):
+/// (1, 1, 1) with the sun up; below, civil twilight's fall of about a factor 10 per 2.5 degrees of
+/// depression, turning blue, down to a floor of 3e-4 (a clear night under a full moon, whose light the
+/// sky then stands for) from about 8.8 degrees on.
+LinearRgb twilight_sky_factor(float sun_elevation_rad) noexcept;
+/// The share of the sun's disc above the horizon at `sun_elevation_rad` (its centre), 0 to 1.
+float sun_disc_above_horizon(float sun_elevation_rad) noexcept;
+
 // ---- Sun ----------------------------------------------------------------------------------------
 
 /// The sun's angular radius (docs/rendering.md 6.3) and the slope variance its disc alone spreads a mirror

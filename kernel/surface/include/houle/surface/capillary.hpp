@@ -2,7 +2,7 @@
 // docs/physics.md 6, docs/rendering.md 5).
 //
 //   h(x, y) = sum_{i=1..n_max} W_i(level) a_i N_i(x, y, t),   a_i = amplitude k^(1-i)
-//   W_i(level) = smoothstep(clamp(level - (i - 1), 0, 1))
+//   W_i(level) = smoothstep(clamp((level - (i - 1)) s, 0, 1)),   s = min(1, log2 k)
 //
 // N_i is 2-D lattice value noise (lattice values in [-1, 1], Catmull-Rom interpolation, C1) of
 // spacing lambda_i = base_wavelength k^(1-i), with the lattice rotated by a fixed angle per octave
@@ -10,7 +10,9 @@
 // animation: 16 lattice values per octave per sample, no 3-D lattice). For level = n + D this is
 // the paper's F(n, D) with octave n+1 faded in by smoothstep(D) so h is C1 in level:
 // h(level = n with D = 1) = h(level = n + 1 with D = 0). In the paper's units
-// h = amplitude k F_paper(x / (k base_wavelength)).
+// h = amplitude k F_paper(x / (k base_wavelength)). For k < 2 an octave fades over 1/s levels, a
+// factor 2 of footprint, not over the factor k: with k = 1.25 all the octaves went within 25 % of
+// distance, a hard circle (docs/rendering.md 5.2); several octaves then fade at once.
 //
 // Coordinates are local: (x, y) in m from the frame's origin, which (like time) is folded into the
 // per-octave lattice offsets in double, so float never sees large world coordinates or times.
@@ -50,6 +52,7 @@ struct CapillaryFrame {
   alignas(32) float off_u[max_octaves] = {};  ///< lattice units, [0, period] (period itself only by rounding)
   alignas(32) float off_v[max_octaves] = {};
   alignas(32) float value_scale[max_octaves] = {};  ///< a_i / 508 (the kernel sums 2w * 2w * q with |q| <= 127)
+  float fade_rate = 1.0f;  ///< s = min(1, log2 k): W_i ramps over 1/s levels
 };
 
 /// One octave's geometry in double (0-based i), shared by make_capillary_frame and by references.
@@ -86,12 +89,16 @@ void capillary_eval(Isa isa, const CapillaryFrame& frame, const float* x, const 
 /// Pixel footprint on the water along the view direction (docs/rendering.md 5.2):
 /// distance * pixel_angle / sin(grazing), sin clamped below at 1e-3.
 float capillary_footprint(float distance_m, float pixel_angle_rad, float sin_grazing) noexcept;
-/// Continuous level for a footprint (m): clamp(log_k(lambda_1 / (N footprint)) + 1, 0, n_max).
-/// Octave i is whole while lambda_i >= N footprint and fades out over the next factor k.
-/// footprint <= 0 gives n_max, NaN gives 0.
+/// Continuous level for a footprint (m): clamp(log_k(lambda_1 / (N footprint)) + 1/s, 0, top) with
+/// top = capillary_top_level. Octave i is whole while lambda_i >= N footprint and fades out over the
+/// next factor max(k, 2). footprint <= 0 gives top, NaN gives 0.
 float octave_level(const CapillaryParams& params, float footprint_m) noexcept;
 /// octave_level of capillary_footprint(distance_m, pixel_angle_rad, sin_grazing).
 float octave_level(const CapillaryParams& params, float distance_m, float pixel_angle_rad, float sin_grazing) noexcept;
+/// The fade rate s = min(1, log2 k) and the highest level, n_max - 1 + 1/s (n_max for k >= 2), where
+/// every octave is whole.
+float capillary_fade_rate(const CapillaryParams& params) noexcept;
+float capillary_top_level(const CapillaryParams& params) noexcept;
 
 /// Bounds for levels <= level (all are nondecreasing in level; use the largest level a ray segment
 /// can see). Height: max |h| <= amplitude 1.5625 sum_i W_i k^(1-i) (Catmull-Rom 2-D overshoot,
