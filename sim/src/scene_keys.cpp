@@ -232,7 +232,7 @@ constexpr Key<SeaState> sea_state_keys[] = {
      "Hs, four times the standard deviation of the surface height (deep water)"},
     {"peak_period", &SeaState::peak_period, "s", {0.5, 30.0}, "Tp, the period at the spectrum's peak"},
     {"gamma", &SeaState::gamma, "", {1.0, 10.0}, "JONSWAP peak enhancement (1: Pierson-Moskowitz)"},
-    {"direction_deg", &SeaState::direction_deg, "deg", any, "mean direction of travel"},
+    {"direction_deg", &SeaState::direction_deg, "deg", angle, "mean direction of travel"},
     {"spread_deg", &SeaState::spread_deg, "deg", {0.0, 80.0},
      "directional spread σ of the cos-2s distribution (its circular standard deviation, SWAN's DSPR): s = 2/σ² − 1; "
      "0: long-crested"},
@@ -289,10 +289,10 @@ constexpr Key<ViewCamera> camera_keys[] = {
 };
 
 constexpr Key<CameraKey> camera_path_keys[] = {
-    {"time", &CameraKey::time, "s", any, "scene time of the key; keys in strictly increasing time", {}, nullptr, true},
-    {"position", &CameraKey::position, "m", any, "where the camera is then", {}, nullptr, true},
-    {"look_at", &CameraKey::look_at, "m", any, "point looked at (not the position)", {}, nullptr, true},
-    {"vertical_fov_deg", &CameraKey::vertical_fov_deg, "deg", {0.0, 180.0, true, true},
+    {"time", &CameraKey::time, "s", {-1.0e6, 1.0e6}, "scene time of the key; keys in strictly increasing time", {}, nullptr, true},
+    {"position", &CameraKey::position, "m", coordinate, "where the camera is then", {}, nullptr, true},
+    {"look_at", &CameraKey::look_at, "m", coordinate, "point looked at (not the position)", {}, nullptr, true},
+    {"vertical_fov_deg", &CameraKey::vertical_fov_deg, "deg", {0.1, 170.0},
      "vertical field of view; [camera]'s when not given"},
 };
 

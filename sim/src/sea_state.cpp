@@ -141,10 +141,18 @@ Expected<std::vector<WaveTrain>> sea_state_components(const SeaState& s, std::si
     WaveTrain t;
     t.period = 1.0 / f;
     t.amplitude = amplitude;
-    t.direction_deg = s.direction_deg + deviation * 180.0 / pi;
+    t.direction_deg = std::remainder(s.direction_deg + deviation * 180.0 / pi, 360.0);  // within a train's range
     t.phase = two_pi * unit_hash(s.seed, index, k, 2);
     t.steepness = s.steepness;
     t.sea_state = std::int32_t(index);
+    // A written train's shortest period (docs/scenes.md, trains.period): shorter waves are ripples.
+    if (1.0 / f < 1.0) {
+      char what[96];
+      std::snprintf(what, sizeof what, "component %zu has a period of %.3g s", k, 1.0 / f);
+      return Error{field + ".peak_period",
+                   "long enough that every component is a wave train of at least 1 s (" + std::string(what) +
+                       "): expected a longer peak_period or fewer components, got " + scene_keys::number_text(s.peak_period)};
+    }
     // Stokes / Miche deep-water limit (docs/physics.md 2.6), as for a written train.
     const double l0 = two_pi / deep_water_wavenumber(two_pi * f);
     if (amplitude > 0.071 * l0) {

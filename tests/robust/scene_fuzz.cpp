@@ -177,13 +177,16 @@ int main(int argc, char** argv) {
       ++too_large;
       continue;
     }
-    if (const auto v = houle::validate(scene); !v) {
+    const auto v = houle::validate(scene);
+    if (!v) {
       auto& [n, example] = invalid[v.error().field.substr(0, v.error().field.find_first_of(".["))];
       if (n++ == 0) example = v.error().field + ": " + v.error().message;
       continue;
     }
     ++valid;
-    const double estimate = estimated_seconds(scene);
+    // What the commands build from: the validated scene (sea states expanded into their trains).
+    const houle::Scene& checked = v.value();
+    const double estimate = estimated_seconds(checked);
     if (estimate > o.max_estimate) {
       ++skipped;
       continue;
@@ -198,7 +201,7 @@ int main(int argc, char** argv) {
       const rlimit as{rlim_t(o.memory_mib) << 21, rlim_t(o.memory_mib) << 21};
       setrlimit(RLIMIT_CPU, &cpu);
       setrlimit(RLIMIT_AS, &as);
-      check_scene(scene);
+      check_scene(checked);
     }
     int status = 0;
     rusage usage{};

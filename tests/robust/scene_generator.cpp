@@ -157,6 +157,10 @@ void meet_the_rules(Draw& d, Scene& s) {
     dwt.insertion_distance = std::max(dwt.insertion_distance, 1.01 * diagonal / dwt.max_rays);
   }
   ViewCamera& cam = s.camera;
+  // A camera path's keys in increasing time, mostly (a key that repeats the time before stays, to be refused).
+  if (d.chance(0.9)) {
+    std::sort(cam.keys.begin(), cam.keys.end(), [](const CameraKey& a, const CameraKey& b) { return a.time < b.time; });
+  }
   const double floor_z = -Bathymetry(s.floor).depth(cam.position.x, cam.position.y);
   if (cam.position.z < floor_z) cam.position.z = std::min(floor_z + d.log_uniform(0.01, 100.0), scene_limits::max_coordinate);
   if (std::hypot(cam.look_at.x - cam.position.x, cam.look_at.y - cam.position.y, cam.look_at.z - cam.position.z) < 0.01) {

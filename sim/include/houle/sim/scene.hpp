@@ -194,7 +194,7 @@ struct CameraKey {
   double time = 0.0;  ///< s of scene time; keys in strictly increasing time
   Point3 position{};
   Point3 look_at{};
-  std::optional<double> vertical_fov_deg;  ///< in (0, 180); the [camera] one when not given
+  std::optional<double> vertical_fov_deg;  ///< in [0.1, 170]; the [camera] one when not given
 };
 
 struct ViewCamera {
