@@ -15,7 +15,12 @@ Args::Args(std::string command, std::span<char* const> argv)
     : Args(std::move(command), std::vector<std::string>(argv.begin(), argv.end())) {}
 
 Args::Args(std::string command, std::vector<std::string> args)
-    : command_(std::move(command)), args_(std::move(args)), used_(args_.size(), false) {}
+    : command_(std::move(command)),
+      args_(std::move(args)),
+      used_(args_.size(), false),
+      options_end_(std::size_t(std::find(args_.begin(), args_.end(), "--") - args_.begin())) {
+  if (options_end_ < args_.size()) used_[options_end_] = true;
+}
 
 void Args::fail(std::string message) {
   if (!error_) error_ = CliError{command_ + ": " + std::move(message)};
@@ -23,7 +28,7 @@ void Args::fail(std::string message) {
 
 bool Args::flag(std::string_view name) {
   bool found = false;
-  for (std::size_t i = 0; i < args_.size(); ++i) {
+  for (std::size_t i = 0; i < options_end_; ++i) {
     if (!used_[i] && args_[i] == name) used_[i] = found = true;
   }
   return found;
@@ -31,12 +36,12 @@ bool Args::flag(std::string_view name) {
 
 std::vector<std::string> Args::values(std::string_view name) {
   std::vector<std::string> out;
-  for (std::size_t i = 0; i < args_.size(); ++i) {
+  for (std::size_t i = 0; i < options_end_; ++i) {
     if (used_[i]) continue;
     const std::string& a = args_[i];
     if (a == name) {
       used_[i] = true;
-      if (i + 1 >= args_.size()) {
+      if (i + 1 >= options_end_) {
         fail(std::string(name) + " expects a value");
         break;
       }
@@ -61,7 +66,7 @@ std::vector<std::string> Args::rest() {
   std::vector<std::string> out;
   for (std::size_t i = 0; i < args_.size(); ++i) {
     if (used_[i]) continue;
-    if (args_[i].size() > 1 && args_[i][0] == '-' && args_[i] != "-") {
+    if (i < options_end_ && args_[i].size() > 1 && args_[i][0] == '-' && args_[i] != "-") {
       fail("unknown option '" + args_[i] + "' (see houle " + command_ + " --help)");
     } else {
       out.push_back(args_[i]);

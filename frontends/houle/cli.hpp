@@ -30,7 +30,8 @@ class Args {
   std::optional<std::string> value(std::string_view name);
   /// Every value of a repeatable option, in order.
   std::vector<std::string> values(std::string_view name);
-  /// Positionals left after all options were taken; an unknown option is an error.
+  /// Positionals left after all options were taken; an unknown option is an error. After `--` every
+  /// argument is a positional (a scene file named "-x.toml").
   std::vector<std::string> rest();
   /// Every argument not taken yet, options and positionals, in the order given.
   std::vector<std::string> unused() const;
@@ -45,6 +46,7 @@ class Args {
   std::string command_;
   std::vector<std::string> args_;
   std::vector<bool> used_;
+  std::size_t options_end_;  ///< the index of `--`, or the count of arguments
   std::optional<CliError> error_;
 };
 

@@ -496,6 +496,7 @@ int farm_slurm(std::span<char* const> argv) {
   if (int(dry_run) + int(submit_it) + int(local.has_value()) > 1) args.fail("--dry-run, --submit and --local exclude each other");
   if (raw && *raw == "-") args.fail("--raw needs a file: the tasks' parts are joined into it");
   if (o.y4m) args.fail("--y4m is one stream behind one header: farm --raw frames, then convert them");
+  if (!positionals.empty() && positionals[0] == "-") args.fail("the tasks read the scene themselves: give a file, not standard input");
   for (const char* a : argv) {
     if (std::strchr(a, '\n') != nullptr) args.fail("an argument holds a line break, which the script cannot carry");
   }

@@ -59,7 +59,8 @@ options:
                           or nothing if the --raw file exists (which is then written whole, under a
                           temporary name until its last frame); temporary files that a killed run
                           left (NAME.tmpPID) are removed. One run per frame range at a time
-  --realtime              pace output to --fps (live preview pipelines)
+  --realtime              pace output to --fps (live preview pipelines); frames late for their time
+                          are counted, the first warned of, the count given at the end
   --quiet, --verbose      no progress and summary lines / per-frame stage times on stderr
 
 Progress goes to stderr: one updated line on a terminal, else a line a second; a last line gives
@@ -101,6 +102,11 @@ int cmd_render(std::span<char* const> argv) {
     return 2;
   }
   const std::optional<std::string> stream = o.raw ? o.raw : o.y4m;  // frames into one file or a pipe
+  if (stream && *stream == "-" && ::isatty(1)) {
+    std::fprintf(stderr, "houle render: standard output is a terminal: pipe the frames into a program (e.g. ffmpeg) "
+                         "or give a file\n");
+    return 2;
+  }
   // The output is checked before the scene is built, and opened after: a refused scene leaves an
   // existing output untouched.
   if (Expected<void> ok = stream ? check_raw_output(*stream) : check_image_output(o.out, o.format == PixelFormat::rgbf32); !ok) {
@@ -178,7 +184,7 @@ int cmd_render(std::span<char* const> argv) {
   const ToneMap tm{o.exposure.value_or(anim->renderer().display_exposure())};
   const auto start = std::chrono::steady_clock::now();
   const long total = count_frames(todo), skipped = o.last - o.first + 1 - total;
-  long done = 0;
+  long done = 0, late = 0;  // late: --realtime frames written after their time
   double last_line = 0.0;
   // " in 0:00:01.3 (3.1 fps)": the run so far.
   const auto summary = [&] {
@@ -191,7 +197,18 @@ int cmd_render(std::span<char* const> argv) {
   for (const auto& [run_first, run_last] : todo) {
     for (long n = run_first; n <= run_last && !interrupted; ++n, ++done) {
       anim->render(double(n) / o.fps, fb);
-      if (o.realtime) std::this_thread::sleep_until(start + std::chrono::duration<double>(double(done + 1) / o.fps));
+      if (o.realtime) {
+        const auto due = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(double(done + 1) / o.fps));
+        if (std::chrono::steady_clock::now() > due) {
+          if (late++ == 0 && !o.quiet) {
+            std::fprintf(stderr, "%shoule render: warning: --realtime: frame %ld is late (rendering is slower than %g fps)\n",
+                         live ? "\n" : "", n, o.fps);
+          }
+        } else {
+          std::this_thread::sleep_until(due);
+        }
+      }
       const WriteStatus st = writer.value()->write(fb, tm, n);
       if (st == WriteStatus::failed) {
         std::fprintf(stderr, "%shoule render: %s\n", live ? "\n" : "", writer.value()->error().c_str());
@@ -232,6 +249,7 @@ int cmd_render(std::span<char* const> argv) {
     const std::string to = !stream ? o.out : *stream == "-" ? "standard output" : *stream;
     std::fprintf(stderr, "houle render: %ld frames written to %s%s", done, to.c_str(), summary().c_str());
     if (skipped > 0) std::fprintf(stderr, " (%ld already complete, skipped)", skipped);
+    if (late > 0) std::fprintf(stderr, " (%ld late for --realtime)", late);
     std::fputc('\n', stderr);
   }
   return 0;

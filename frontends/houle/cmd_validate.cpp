@@ -3,6 +3,7 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "scene_file.hpp"
+#include "scene_source.hpp"
 
 namespace houle::cli {
 
@@ -23,7 +24,7 @@ int cmd_validate(std::span<char* const> argv) {
     const Expected<Scene> scene = load_scene_file(f, &warnings);
     for (const Error& w : warnings) std::fprintf(stderr, "%s: warning: %s\n", w.field.c_str(), w.message.c_str());
     if (scene) {
-      std::printf("%s: ok\n", f.c_str());
+      std::printf("%s: ok\n", scene_name({f}).c_str());
     } else {
       std::fprintf(stderr, "%s: error: %s\n", scene.error().field.c_str(), scene.error().message.c_str());
       status = 2;

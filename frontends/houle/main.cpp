@@ -26,6 +26,9 @@ commands:
                         pierheads near the domain's edge
   farm slurm|status     a frame range as a Slurm array job (or processes here), and its final check
 
+SCENE is a TOML scene file (docs/scenes.md), or - to read it from standard input; after -- every
+argument is a scene, even one whose name starts with -.
+
 options:
   --help                this text; `houle <command> --help` for a command's options
   --version             version and the SIMD instruction set in use

@@ -1,6 +1,7 @@
 #include "scene_file.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <vector>
 #include <fstream>
@@ -360,6 +361,17 @@ Expected<Scene> parse_scene(std::string_view text, const std::string& name, cons
 }
 
 Expected<Scene> load_scene_file(const std::string& path, std::vector<Error>* warnings) {
+  if (path == "-") {
+    // Standard input: read up to one byte past the limit, to know it was passed.
+    std::string text(max_scene_file_bytes + 1, '\0');
+    text.resize(std::fread(text.data(), 1, text.size(), stdin));
+    if (std::ferror(stdin)) return Error{"standard input", "cannot read the scene"};
+    if (text.size() > max_scene_file_bytes) {
+      return Error{"standard input", "scene of more than " + std::to_string(max_scene_file_bytes) +
+                                         " bytes is over the limit (height maps belong in image files)"};
+    }
+    return parse_scene(text, "standard input", ".", warnings);
+  }
   const Expected<std::uintmax_t> size = regular_file_size(path);
   if (!size) return Error{path, "cannot read the scene file: " + size.error().message};
   if (size.value() > max_scene_file_bytes) {

@@ -38,7 +38,8 @@ std::optional<SceneRun> take_scene_run(Args& args, const char* command) {
 }
 
 std::string scene_name(const std::vector<std::string>& positionals) {
-  return positionals.empty() ? "built-in coast" : positionals[0];
+  if (positionals.empty()) return "built-in coast";
+  return positionals[0] == "-" ? "standard input" : positionals[0];
 }
 
 void warn_if_truncated(const char* command, const std::string& scene, const WaveField& field) {

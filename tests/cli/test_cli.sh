@@ -546,6 +546,22 @@ for pf in rgb24:3 rgba:4 bgra:4 rgba8:4 bgra8:4; do
   if [ "$(stat -c %s "$work/pf.raw")" -eq $((96 * 54 * ${pf##*:})) ]; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAIL --pixel-format ${pf%%:*}"; fi
 done
 # The help's ffmpeg example makes a video players can show (4:2:0), as the README's does.
+# A scene from standard input (-), and -- before a scene whose name starts with -.
+expect stdin-validate 0 '^standard input: ok' sh -c '"$1" validate - <"$2"' sh "$houle" "$src/scenes/paper_fig4.toml"
+expect stdin-error 2 '^standard input:1:8: error: ' sh -c 'printf "[trains\n" | "$1" validate -' sh "$houle"
+expect stdin-render 0 '1 frames written' sh -c '"$1" render - --frames 0:0 --size 48x27 --quality draft --raw "$2" <"$3"' \
+  sh "$houle" "$work/stdin.rgb" "$src/scenes/paper_fig4.toml"
+cp "$src/scenes/paper_fig4.toml" "$work/-fig4.toml"
+expect dash-dash 0 '^-fig4.toml: ok' sh -c 'cd "$1" && "$2" validate -- -fig4.toml' sh "$work" "$houle"
+expect dash-name-without-dash-dash 2 "unknown option '-fig4.toml'" sh -c 'cd "$1" && "$2" validate -fig4.toml' sh "$work" "$houle"
+# Frames are not written to a terminal (script gives the command one).
+expect raw-to-terminal 2 'standard output is a terminal' script -qec "$houle render --frames 0:0 --size 48x27 --raw -" /dev/null
+expect y4m-to-terminal 2 'standard output is a terminal' script -qec "$houle render --frames 0:0 --size 48x27 --y4m -" /dev/null
+# --realtime says when rendering falls behind (1000 fps: every frame is late).
+for pattern in 'warning: --realtime: frame 0 is late \(rendering is slower than 1000 fps\)' '\(4 late for --realtime\)$'; do
+  expect "realtime-late /$pattern/" 0 "$pattern" \
+    "$houle" render "$src/scenes/paper_fig4.toml" --frames 0:3 --size 160x90 --fps 1000 --realtime --raw "$work/late.rgb"
+done
 expect help-ffmpeg 0 'ffmpeg .*-pix_fmt yuv420p' "$houle" render --help
 # Threads default to the machine's (frames do not depend on them: the 1-vs-2 check above).
 expect help-threads 0 "--threads N .*default: the machine's hardware threads" "$houle" render --help
