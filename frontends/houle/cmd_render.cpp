@@ -36,7 +36,7 @@ options:
                           same for any count
   --out PATTERN           image sequence through OpenImageIO, one %d-style frame number in the name
                           (default frames/%04d.png; its folder is made): .png/.jpg/.tif are 8-bit sRGB,
-                          .exr linear half float, .hdr/.pfm linear float (extensions in any case);
+                          .exr linear half float, .hdr linear float (extensions in any case);
                           EXR headers hold the camera (worldToCamera, worldToNDC), framesPerSecond,
                           Software, houle:frame and houle:time (s); no date: a frame's file is the
                           same bytes on every render
@@ -54,7 +54,7 @@ options:
                           bgra8 too) or rgbf32 (linear floats); with --out only rgbf32, for linear
                           32-bit float images (.tif/.tiff as float TIFF, .exr in full float)
   --exposure E            multiplies the linear image before tone mapping (default: the scene's,
-                          fixed from its sun and sky); EXR, HDR and PFM files and rgbf32 stay linear
+                          fixed from its sun and sky); EXR and HDR files and rgbf32 stay linear
   --skip-existing         restart a stopped run: render only the frames whose --out file is missing,
                           or nothing if the --raw file exists (which is then written whole, under a
                           temporary name until its last frame); temporary files that a killed run

@@ -286,9 +286,9 @@ namespace {
 Expected<ImageStorage> image_storage(const std::string& pattern, const std::string& first, bool float32) {
   std::string ext = std::filesystem::path(first).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  const bool float_only = ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+  const bool float_only = ext == ".exr" || ext == ".hdr";
   if (float32 && !float_only && ext != ".tif" && ext != ".tiff") {
-    return Error{pattern, "32-bit float images need .exr, .hdr, .pfm, .tif or .tiff"};
+    return Error{pattern, "32-bit float images need .exr, .hdr, .tif or .tiff"};
   }
   return float32 ? linear_float : ext == ".exr" ? linear_half : float_only ? linear_float : srgb8;
 }

@@ -49,7 +49,7 @@ struct ImageHeader {
 };
 
 /// `pattern` holds one printf integer conversion (e.g. "frames/%04d.png"); the extension, in any
-/// case, picks the format: linear half floats for EXR, linear 32-bit floats for HDR and PFM, 8-bit
+/// case, picks the format: linear half floats for EXR, linear 32-bit floats for HDR, 8-bit
 /// sRGB for PNG/JPEG/TIFF and the rest. `float32` asks for linear 32-bit floats: EXR in full float,
 /// TIFF as float (an error for 8-bit-only formats). Each image is written under
 /// a temporary name and renamed, so no partial image ever has the final name. The pattern's folder

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Checks that an image holds the linear frame of a raw rgbf32 file, within the precision of its
-format: half (EXR), RGBE (HDR: 8 bits of mantissa shared by a pixel's channels) or float (PFM, TIFF).
+format: half (EXR), RGBE (HDR: 8 bits of mantissa shared by a pixel's channels) or float (TIFF).
 The image's pixels come as `oiiotool --dumpdata IMAGE` prints them (9 significant digits).
 Usage: check_float_image.py RAW.f32 DUMP.txt half|rgbe|float"""
 import array

@@ -538,7 +538,7 @@ for case in exr:half Exr:half hdr:rgbe tif:float; do
     fail=$((fail + 1)); echo "FAIL float image .$ext: $(cat "$work/check.txt")"
   fi
 done
-expect float-png 2 '32-bit float images need .exr, .hdr, .pfm, .tif or .tiff' "$houle" render --frames 1 --size $size --out "$work/f%d.png" --pixel-format rgbf32
+expect float-png 2 '32-bit float images need .exr, .hdr, .tif or .tiff' "$houle" render --frames 1 --size $size --out "$work/f%d.png" --pixel-format rgbf32
 # --pixel-format is for raw frames: refused with images (but rgbf32); ffmpeg's names, the old ones as aliases.
 expect pixel-format-out 2 'pixel-format rgba is for --raw; images take their format from the --out extension' "$houle" render --frames 1 --out "$work/p%d.png" --pixel-format rgba
 for pf in rgb24:3 rgba:4 bgra:4 rgba8:4 bgra8:4; do
