@@ -14,6 +14,7 @@
 #include "houle/runtime/assert.hpp"
 #include "houle/runtime/thread_pool.hpp"
 #include "scene_objects.hpp"
+#include "shadow_mask.hpp"
 
 namespace houle {
 namespace {
@@ -151,8 +152,10 @@ LinearRgb sand_at(LinearRgb dry, const Vec3& p, float footprint) {
   const float dryness = u * u * (3.0f - 2.0f * u);
   const float x = std::clamp(p[0], -1e6f, 1e6f), y = std::clamp(p[1], -1e6f, 1e6f);
   const auto fade = [&](float spacing) { return std::clamp(2.0f - footprint * 8.0f / spacing, 0.0f, 1.0f); };
-  const float grain = 1.0f + 0.05f * fade(2.3f) * lattice_noise(x * 0.43f, y * 0.43f) +
-                      0.03f * fade(0.7f) * lattice_noise(x * 1.4f + 17.0f, y * 1.4f);
+  // A lattice faded out adds (+-)0 whatever its noise: the noise is not evaluated there (the same bits).
+  const float coarse = fade(2.3f), fine = fade(0.7f);
+  const float grain = 1.0f + (coarse > 0.0f ? 0.05f * coarse * lattice_noise(x * 0.43f, y * 0.43f) : 0.0f) +
+                      (fine > 0.0f ? 0.03f * fine * lattice_noise(x * 1.4f + 17.0f, y * 1.4f) : 0.0f);
   const float k = (wet + (1.0f - wet) * dryness) * grain;
   return {std::min(dry.r * k, 1.0f), std::min(dry.g * k, 1.0f), std::min(dry.b * k, 1.0f)};
 }
@@ -167,6 +170,10 @@ SurfSample surf_at(const SurfMap& m, float x, float y) {
   const auto i = std::size_t(u), j = std::size_t(v);
   const float a = u - float(i), b = v - float(j);
   const std::size_t n = j * m.nx + i;
+  // Most of the sea is far from any break: four foam nodes at 0 interpolate to 0 (foam_cover's answer
+  // with no foam), and the other three fields are not read.
+  const float* foam = m.foam.data();
+  if (foam[n] == 0.0f && foam[n + 1] == 0.0f && foam[n + m.nx] == 0.0f && foam[n + m.nx + 1] == 0.0f) return {};
   const auto lerp = [&](const std::vector<float>& f) {
     const float lo = f[n] + a * (f[n + 1] - f[n]), hi = f[n + m.nx] + a * (f[n + m.nx + 1] - f[n + m.nx]);
     return lo + b * (hi - lo);
@@ -224,6 +231,7 @@ struct Renderer::Impl {
   float sea_illumination = 0.0f;  ///< luminance on a white horizontal surface: scales I_sea
   float sea_shade_illumination = 0.0f;  ///< the same in an object's shadow: the sky's share alone
   float casters_top = -std::numeric_limits<float>::infinity();  ///< m, highest point of a box or sphere
+  detail::ShadowMask sun_mask, sun_water_mask;  ///< where lines along sun and sun_water can meet them
   float exposure = 1.0f;          ///< display_exposure()
   std::array<float, 3> rgb_absorption{};
 
@@ -240,7 +248,7 @@ struct Renderer::Impl {
   // The frame being rendered (set by render()).
   const SurfaceFrame* surface = nullptr;
   const CapillaryFrame* noise = nullptr;
-  const CapillaryParams* noise_params = nullptr;
+  DroppedSlopeVariance dropped;  // of the noise's parameters (render()'s noise_params), for the glint
   Camera camera;
   Framebuffer* out = nullptr;
   RenderView view = RenderView::shaded;
@@ -301,7 +309,8 @@ LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const
     const float offset = 1e-3f + 1e-4f * h.t;
     const float depth = std::max(0.0f, -p[2]);
     const double reach = double(depth) / double(sun_water[2]);
-    bool lit = !quality.shadows || !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
+    bool lit = !quality.shadows || !sun_water_mask.may_meet(along(p, n, offset)) ||
+               !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
     if (lit) lit = sunlit(along(p, sun_water, depth / sun_water[2]), sun, offset);
     if (lit) light = light + sun_water_rgb * cos_sun;
   }
@@ -359,7 +368,7 @@ float Renderer::Impl::foam_cover(const Vec3& p, float grad_x, float grad_y, floa
   const float moving = s.dir_x * s.dir_x + s.dir_y * s.dir_y;  // 0 at a wall's toe: every crest foams
   const float front = moving > 0.25f ? std::clamp(-5.0f * (grad_x * s.dir_x + grad_y * s.dir_y), 0.0f, 1.0f) : 1.0f;
   const float patches = std::clamp(2.0f - footprint * 8.0f / 1.5f, 0.0f, 1.0f);
-  const float texture = 0.7f + 0.3f * patches * lattice_noise(p[0] * 0.8f + 5.0f, p[1] * 0.8f);
+  const float texture = patches > 0.0f ? 0.7f + 0.3f * patches * lattice_noise(p[0] * 0.8f + 5.0f, p[1] * 0.8f) : 0.7f;
   return std::clamp(s.foam * (0.2f + crest * (0.3f + 0.7f * front)) * texture, 0.0f, 1.0f);
 }
 
@@ -368,6 +377,7 @@ float Renderer::Impl::foam_cover(const Vec3& p, float grad_x, float grad_y, floa
 /// far as the highest object.
 bool Renderer::Impl::sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept {
   if (!quality.shadows || !(sun[2] > 0.0f) || !(casters_top > p[2])) return true;
+  if (!sun_mask.may_meet(along(p, offset_normal, offset))) return true;  // the line misses every caster
   const double reach = double(casters_top - p[2]) / double(sun[2]) + 1.0;
   return !objects.occluded(make_ray(p, offset_normal, offset, sun), 0.0, reach, false);
 }
@@ -420,8 +430,7 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     // The sun's glint, widened by the slope variance of the octaves the LOD left out at this pixel.
     float glint = 0.0f;
     const Vec3 v{-d[0], -d[1], -d[2]};
-    float variance = 0.0f;
-    if (noise != nullptr && noise_params != nullptr) variance = dropped_slope_variance(*noise_params, s.a[Scratch::level][i]);
+    const float variance = noise != nullptr ? dropped(s.a[Scratch::level][i]) : 0.0f;
     const Vec3 half = normalized({v[0] + sun[0], v[1] + sun[1], v[2] + sun[2]});
     const float cos_h = dot(n, half);
     // Skip the lobe where it is below e^-30 of its peak (tan^2 / 2 sigma^2 > 30): most of the sea.
@@ -665,6 +674,10 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
     r.casters_top = std::max(r.casters_top, b.center[2] + reach);
   }
   for (const RenderSphere& s : scene.spheres) r.casters_top = std::max(r.casters_top, s.center[2] + s.motion + s.radius);
+  if (quality.shadows && r.sun[2] > 0.0f) {
+    r.sun_mask = detail::ShadowMask::build(scene.boxes, scene.spheres, r.sun);
+    r.sun_water_mask = detail::ShadowMask::build(scene.boxes, scene.spheres, r.sun_water);
+  }
 
   auto pool = detail::ThreadPool::create(threads);
   if (!pool) return pool.error();
@@ -732,7 +745,8 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   }
   r.surface = &surface;
   r.noise = noise != nullptr && noise->octaves > 0 ? noise : nullptr;
-  r.noise_params = r.noise == nullptr ? nullptr : noise_params != nullptr ? noise_params : &noise->params;
+  const CapillaryParams* params = r.noise == nullptr ? nullptr : noise_params != nullptr ? noise_params : &noise->params;
+  r.dropped = params != nullptr ? DroppedSlopeVariance(*params) : DroppedSlopeVariance();
   r.camera = camera;
   // Every field of the camera, bit for bit (no padding: sizeof is the sum of the fields).
   static_assert(sizeof(Camera) == 16 * 4);
