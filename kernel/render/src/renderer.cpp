@@ -14,6 +14,7 @@
 #include "houle/runtime/assert.hpp"
 #include "houle/runtime/thread_pool.hpp"
 #include "scene_objects.hpp"
+#include "shadow_mask.hpp"
 
 namespace houle {
 namespace {
@@ -151,27 +152,47 @@ LinearRgb sand_at(LinearRgb dry, const Vec3& p, float footprint) {
   const float dryness = u * u * (3.0f - 2.0f * u);
   const float x = std::clamp(p[0], -1e6f, 1e6f), y = std::clamp(p[1], -1e6f, 1e6f);
   const auto fade = [&](float spacing) { return std::clamp(2.0f - footprint * 8.0f / spacing, 0.0f, 1.0f); };
-  const float grain = 1.0f + 0.05f * fade(2.3f) * lattice_noise(x * 0.43f, y * 0.43f) +
-                      0.03f * fade(0.7f) * lattice_noise(x * 1.4f + 17.0f, y * 1.4f);
+  // A lattice faded out adds (+-)0 whatever its noise: the noise is not evaluated there (the same bits).
+  const float coarse = fade(2.3f), fine = fade(0.7f);
+  const float grain = 1.0f + (coarse > 0.0f ? 0.05f * coarse * lattice_noise(x * 0.43f, y * 0.43f) : 0.0f) +
+                      (fine > 0.0f ? 0.03f * fine * lattice_noise(x * 1.4f + 17.0f, y * 1.4f) : 0.0f);
   const float k = (wet + (1.0f - wet) * dryness) * grain;
   return {std::min(dry.r * k, 1.0f), std::min(dry.g * k, 1.0f), std::min(dry.b * k, 1.0f)};
+}
+
+/// The surf map as the renderer reads it, packed once per scene: a node's four fields side by side, so
+/// that a pixel's bilinear lookup touches two cache lines, not eight (the map of the built-in coast is
+/// a few MB, beyond the caches, and 80 % of its sea pixels read it).
+struct PackedSurf {
+  float origin_x = 0.0f, origin_y = 0.0f, cell = 1.0f;  ///< m
+  std::uint32_t nx = 0, ny = 0;
+  std::vector<std::array<float, 4>> nodes;  ///< foam, dir_x, dir_y, amplitude
+};
+PackedSurf pack(const SurfMap& m) {
+  std::vector<std::array<float, 4>> nodes;
+  nodes.reserve(m.foam.size());
+  for (std::size_t n = 0; n < m.foam.size(); ++n) nodes.push_back({m.foam[n], m.dir_x[n], m.dir_y[n], m.amplitude[n]});
+  return {m.origin_x, m.origin_y, m.cell, m.nx, m.ny, std::move(nodes)};
 }
 
 /// The surf map's fields at (x, y), bilinear; all 0 outside the map.
 struct SurfSample {
   float foam = 0.0f, dir_x = 0.0f, dir_y = 0.0f, amplitude = 0.0f;
 };
-SurfSample surf_at(const SurfMap& m, float x, float y) {
+SurfSample surf_at(const PackedSurf& m, float x, float y) {
   const float u = (x - m.origin_x) / m.cell, v = (y - m.origin_y) / m.cell;
   if (!(u >= 0.0f && v >= 0.0f && u < float(m.nx - 1) && v < float(m.ny - 1))) return {};  // NaN too
   const auto i = std::size_t(u), j = std::size_t(v);
   const float a = u - float(i), b = v - float(j);
-  const std::size_t n = j * m.nx + i;
-  const auto lerp = [&](const std::vector<float>& f) {
-    const float lo = f[n] + a * (f[n + 1] - f[n]), hi = f[n + m.nx] + a * (f[n + m.nx + 1] - f[n + m.nx]);
+  const std::array<float, 4>* row = m.nodes.data() + j * m.nx + i;
+  const std::array<float, 4>&n00 = row[0], &n10 = row[1], &n01 = row[m.nx], &n11 = row[m.nx + 1];
+  // Four foam nodes at 0 interpolate to 0, foam_cover's answer with no foam.
+  if (n00[0] == 0.0f && n10[0] == 0.0f && n01[0] == 0.0f && n11[0] == 0.0f) return {};
+  const auto lerp = [&](int k) {
+    const float lo = n00[k] + a * (n10[k] - n00[k]), hi = n01[k] + a * (n11[k] - n01[k]);
     return lo + b * (hi - lo);
   };
-  return {lerp(m.foam), lerp(m.dir_x), lerp(m.dir_y), lerp(m.amplitude)};
+  return {lerp(0), lerp(1), lerp(2), lerp(3)};
 }
 
 bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
@@ -213,7 +234,7 @@ struct Renderer::Impl {
   // Light in the renderer's relative units (see renderer.hpp).
   Vec3 sun{0.0f, 0.0f, 1.0f};
   LinearRgb sand;             ///< the dry sand's reflectance
-  SurfMap surf;               ///< where waves break (empty: nowhere)
+  PackedSurf surf;            ///< where waves break (empty: nowhere)
   LinearRgb sun_rgb;          ///< a white surface facing the sun reflects this
   LinearRgb ambient;          ///< a white horizontal surface reflects this of the sky's light
   LinearRgb sky_scale;        ///< sky kcd/m^2 -> relative radiance (dimmed and tinted after sunset)
@@ -224,6 +245,7 @@ struct Renderer::Impl {
   float sea_illumination = 0.0f;  ///< luminance on a white horizontal surface: scales I_sea
   float sea_shade_illumination = 0.0f;  ///< the same in an object's shadow: the sky's share alone
   float casters_top = -std::numeric_limits<float>::infinity();  ///< m, highest point of a box or sphere
+  detail::ShadowMask sun_mask, sun_water_mask;  ///< where lines along sun and sun_water can meet them
   float exposure = 1.0f;          ///< display_exposure()
   std::array<float, 3> rgb_absorption{};
 
@@ -240,7 +262,7 @@ struct Renderer::Impl {
   // The frame being rendered (set by render()).
   const SurfaceFrame* surface = nullptr;
   const CapillaryFrame* noise = nullptr;
-  const CapillaryParams* noise_params = nullptr;
+  DroppedSlopeVariance dropped;  // of the noise's parameters (render()'s noise_params), for the glint
   Camera camera;
   Framebuffer* out = nullptr;
   RenderView view = RenderView::shaded;
@@ -301,7 +323,8 @@ LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const
     const float offset = 1e-3f + 1e-4f * h.t;
     const float depth = std::max(0.0f, -p[2]);
     const double reach = double(depth) / double(sun_water[2]);
-    bool lit = !quality.shadows || !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
+    bool lit = !quality.shadows || !sun_water_mask.may_meet(along(p, n, offset)) ||
+               !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
     if (lit) lit = sunlit(along(p, sun_water, depth / sun_water[2]), sun, offset);
     if (lit) light = light + sun_water_rgb * cos_sun;
   }
@@ -359,7 +382,7 @@ float Renderer::Impl::foam_cover(const Vec3& p, float grad_x, float grad_y, floa
   const float moving = s.dir_x * s.dir_x + s.dir_y * s.dir_y;  // 0 at a wall's toe: every crest foams
   const float front = moving > 0.25f ? std::clamp(-5.0f * (grad_x * s.dir_x + grad_y * s.dir_y), 0.0f, 1.0f) : 1.0f;
   const float patches = std::clamp(2.0f - footprint * 8.0f / 1.5f, 0.0f, 1.0f);
-  const float texture = 0.7f + 0.3f * patches * lattice_noise(p[0] * 0.8f + 5.0f, p[1] * 0.8f);
+  const float texture = patches > 0.0f ? 0.7f + 0.3f * patches * lattice_noise(p[0] * 0.8f + 5.0f, p[1] * 0.8f) : 0.7f;
   return std::clamp(s.foam * (0.2f + crest * (0.3f + 0.7f * front)) * texture, 0.0f, 1.0f);
 }
 
@@ -368,6 +391,7 @@ float Renderer::Impl::foam_cover(const Vec3& p, float grad_x, float grad_y, floa
 /// far as the highest object.
 bool Renderer::Impl::sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept {
   if (!quality.shadows || !(sun[2] > 0.0f) || !(casters_top > p[2])) return true;
+  if (!sun_mask.may_meet(along(p, offset_normal, offset))) return true;  // the line misses every caster
   const double reach = double(casters_top - p[2]) / double(sun[2]) + 1.0;
   return !objects.occluded(make_ray(p, offset_normal, offset, sun), 0.0, reach, false);
 }
@@ -420,8 +444,7 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     // The sun's glint, widened by the slope variance of the octaves the LOD left out at this pixel.
     float glint = 0.0f;
     const Vec3 v{-d[0], -d[1], -d[2]};
-    float variance = 0.0f;
-    if (noise != nullptr && noise_params != nullptr) variance = dropped_slope_variance(*noise_params, s.a[Scratch::level][i]);
+    const float variance = noise != nullptr ? dropped(s.a[Scratch::level][i]) : 0.0f;
     const Vec3 half = normalized({v[0] + sun[0], v[1] + sun[1], v[2] + sun[2]});
     const float cos_h = dot(n, half);
     // Skip the lobe where it is below e^-30 of its peak (tan^2 / 2 sigma^2 > 30): most of the sea.
@@ -638,7 +661,7 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
       surf.dir_x.size() != surf_nodes || surf.dir_y.size() != surf_nodes || surf.amplitude.size() != surf_nodes) {
     return Error{"surf", "nx, ny >= 2 (or both 0), a cell > 0 m and nx * ny values in each field"};
   }
-  r.surf = surf;
+  r.surf = pack(surf);
   const float elevation = std::asin(std::clamp(r.sun[2], -1.0f, 1.0f));
   const LinearRgb transmittance = sun_transmittance(double(r.sun[2]), double(scene.turbidity));
   const double e_sun = solar_constant_klx * double(luminance(transmittance));
@@ -665,6 +688,10 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
     r.casters_top = std::max(r.casters_top, b.center[2] + reach);
   }
   for (const RenderSphere& s : scene.spheres) r.casters_top = std::max(r.casters_top, s.center[2] + s.motion + s.radius);
+  if (quality.shadows && r.sun[2] > 0.0f) {
+    r.sun_mask = detail::ShadowMask::build(scene.boxes, scene.spheres, r.sun);
+    r.sun_water_mask = detail::ShadowMask::build(scene.boxes, scene.spheres, r.sun_water);
+  }
 
   auto pool = detail::ThreadPool::create(threads);
   if (!pool) return pool.error();
@@ -732,7 +759,8 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   }
   r.surface = &surface;
   r.noise = noise != nullptr && noise->octaves > 0 ? noise : nullptr;
-  r.noise_params = r.noise == nullptr ? nullptr : noise_params != nullptr ? noise_params : &noise->params;
+  const CapillaryParams* params = r.noise == nullptr ? nullptr : noise_params != nullptr ? noise_params : &noise->params;
+  r.dropped = params != nullptr ? DroppedSlopeVariance(*params) : DroppedSlopeVariance();
   r.camera = camera;
   // Every field of the camera, bit for bit (no padding: sizeof is the sum of the fields).
   static_assert(sizeof(Camera) == 16 * 4);

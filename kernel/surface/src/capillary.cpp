@@ -234,14 +234,19 @@ float octave_slope_variance(const CapillaryParams& p) noexcept {
   return float(g * g * detail::capillary_lattice().value_variance * detail::slope_integrals);
 }
 
-float dropped_slope_variance(const CapillaryParams& p, float level) noexcept {
+DroppedSlopeVariance::DroppedSlopeVariance(const CapillaryParams& p) noexcept
+    : octave_variance(octave_slope_variance(p)), fade_rate(capillary_fade_rate(p)), octaves(p.max_octaves) {}
+
+float DroppedSlopeVariance::operator()(float level) const noexcept {
   double missing = 0.0;
-  for (int i = 0; i < p.max_octaves; ++i) {
-    const double w = detail::octave_weight(level, i, capillary_fade_rate(p));
+  for (int i = 0; i < octaves; ++i) {
+    const double w = detail::octave_weight(level, i, fade_rate);
     missing += 1.0 - w * w;
   }
-  return float(octave_slope_variance(p) * missing);
+  return float(octave_variance * missing);
 }
+
+float dropped_slope_variance(const CapillaryParams& p, float level) noexcept { return DroppedSlopeVariance(p)(level); }
 
 float capillary_lattice_value(std::int32_t i, std::int32_t j) noexcept {
   // Byte 1 of word (row j + 1, column i) is q(i, j): read back from the packed table the kernel uses.

@@ -115,6 +115,15 @@ float octave_slope_variance(const CapillaryParams& params) noexcept;
 /// octave_slope_variance * sum_i (1 - W_i^2). Add it to the BRDF's slope variance (docs/rendering.md 5.4)
 /// so total roughness does not change with distance.
 float dropped_slope_variance(const CapillaryParams& params, float level) noexcept;
+/// dropped_slope_variance with what does not depend on the level (the fade rate, a log2, and the
+/// octave's variance) worked out once: the renderer asks it per sea pixel. The same bits.
+struct DroppedSlopeVariance {
+  float octave_variance = 0.0f, fade_rate = 1.0f;
+  int octaves = 0;
+  explicit DroppedSlopeVariance(const CapillaryParams& params) noexcept;
+  DroppedSlopeVariance() noexcept = default;
+  float operator()(float level) const noexcept;
+};
 
 /// Lattice value at integer point (i, j), in [-1, 1], period 256 in both: for reference implementations.
 float capillary_lattice_value(std::int32_t i, std::int32_t j) noexcept;
