@@ -118,7 +118,7 @@ double expected_samples(const Scene& s, std::size_t t, const Bathymetry& floor, 
       const double h = floor.depth(x, y);
       if (!(h > h_min)) break;
       const double ds = dphi / linear_wave(omega, h).k;
-      if (!walls.empty() && detail::first_wall_hit(walls, x, y, x + ds * dir.x, y + ds * dir.y).hit) break;
+      if (!walls.empty() && detail::wall_blocks(walls, x, y, x + ds * dir.x, y + ds * dir.y)) break;
       x += ds * dir.x, y += ds * dir.y, path += ds;
       if (x < s.domain.x_min || x > s.domain.x_max || y < s.domain.y_min || y > s.domain.y_max || path > path_max) break;
       if (i == 4095) {

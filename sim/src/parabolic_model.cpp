@@ -336,12 +336,12 @@ Expected<ParabolicField> march_parabolic(const Scene& scene, const Bathymetry& f
         const double n = g.n0 + double(j) * g.dn;
         const double x = s * g.dx + n * g.mx, y = s * g.dy + n * g.my;
         if (point_segment_dist2(x, y, c) < c.radius * c.radius) r.wet[std::size_t(j)] = 0;
-        if (s != s_prev && first_wall_hit(one, s_prev * g.dx + n * g.mx, s_prev * g.dy + n * g.my, x, y).hit) {
+        if (s != s_prev && wall_blocks(one, s_prev * g.dx + n * g.mx, s_prev * g.dy + n * g.my, x, y)) {
           r.reached[std::size_t(j)] = 0;
         }
         if (j + 1 < long(nc)) {
           const double x1 = x + g.dn * g.mx, y1 = y + g.dn * g.my;
-          if (first_wall_hit(one, x, y, x1, y1).hit) r.open[std::size_t(j)] = 0;
+          if (wall_blocks(one, x, y, x1, y1)) r.open[std::size_t(j)] = 0;
         }
       }
     }

@@ -45,6 +45,12 @@ double closest_on_chord(double p0x, double p0y, double dx, double dy, const Caps
   return u;
 }
 
+// Cheap reject: the chord's bounding box must overlap the segment's grown by the radius.
+bool boxes_overlap(double cx0, double cx1, double cy0, double cy1, const Capsule& c) noexcept {
+  return !(cx1 < std::min(c.ax, c.bx) - c.radius || cx0 > std::max(c.ax, c.bx) + c.radius ||
+           cy1 < std::min(c.ay, c.by) - c.radius || cy0 > std::max(c.ay, c.by) + c.radius);
+}
+
 // First u in [0, 1] where the chord comes within the capsule's radius, or 2 if it never gets deeper than
 // the touch tolerance. The distance from a point moving on a line to a segment is convex in u, so it
 // crosses the radius at most once before its minimum: bisection is safe.
@@ -87,17 +93,26 @@ std::vector<Capsule> wall_capsules(const std::vector<Wall>& walls) {
 
 WallHit first_wall_hit(std::span<const Capsule> capsules, double x0, double y0, double x1, double y1) noexcept {
   WallHit best;
-  // Cheap reject: the chord's bounding box grown by the radius must overlap the segment's.
   const double cx0 = std::min(x0, x1), cx1 = std::max(x0, x1), cy0 = std::min(y0, y1), cy1 = std::max(y0, y1);
   for (const Capsule& c : capsules) {
-    if (cx1 < std::min(c.ax, c.bx) - c.radius || cx0 > std::max(c.ax, c.bx) + c.radius ||
-        cy1 < std::min(c.ay, c.by) - c.radius || cy0 > std::max(c.ay, c.by) + c.radius) {
-      continue;
-    }
+    if (!boxes_overlap(cx0, cx1, cy0, cy1, c)) continue;
     const double u = capsule_entry(x0, y0, x1, y1, c);
     if (u < best.u) best = WallHit{true, u, c.wall};
   }
   return best;
+}
+
+bool wall_blocks(std::span<const Capsule> capsules, double x0, double y0, double x1, double y1) noexcept {
+  const double cx0 = std::min(x0, x1), cx1 = std::max(x0, x1), cy0 = std::min(y0, y1), cy1 = std::max(y0, y1);
+  for (const Capsule& c : capsules) {
+    if (!boxes_overlap(cx0, cx1, cy0, cy1, c)) continue;
+    // capsule_entry's test for a chord that enters (then its entry is found in [0, 1]).
+    double min_d2 = 0.0;
+    closest_on_chord(x0, y0, x1 - x0, y1 - y0, c, min_d2);
+    const double inner = c.radius - touch_tolerance;
+    if (min_d2 < inner * inner) return true;
+  }
+  return false;
 }
 
 bool wall_normal(const std::vector<Capsule>& capsules, std::uint32_t wall, double x, double y, double& nx,

@@ -35,6 +35,10 @@ std::vector<Capsule> wall_capsules(const std::vector<Wall>& walls);
 /// than 1e-9 m) hits at u = 0; one that only touches the surface, or starts on it and moves away or
 /// along it, does not hit (so rays can start on a wall's surface and graze its face).
 WallHit first_wall_hit(std::span<const Capsule> capsules, double x0, double y0, double x1, double y1) noexcept;
+/// first_wall_hit(...).hit without finding where: the chord comes deeper than the touch tolerance into
+/// some capsule. No bisection and the first such capsule ends the search (a front of 40,000 rays
+/// checked against a thousand capsules took 23 s through first_wall_hit).
+bool wall_blocks(std::span<const Capsule> capsules, double x0, double y0, double x1, double y1) noexcept;
 
 /// Outward unit normal of wall `wall`'s surface at the point (x, y) on it (from the nearest of its
 /// capsules' axes); false if the point lies on an axis (no direction) or the wall has no capsule.

@@ -35,7 +35,7 @@ std::string_view place_name(Place place) noexcept {
 
 Place locate(const Scene& scene, const Bathymetry& floor, double x, double y) {
   if (!in_domain(scene.domain, x, y)) return Place::outside;
-  if (!scene.walls.empty() && detail::first_wall_hit(detail::wall_capsules(scene.walls), x, y, x, y).hit) return Place::wall;
+  if (!scene.walls.empty() && detail::wall_blocks(detail::wall_capsules(scene.walls), x, y, x, y)) return Place::wall;
   return floor.depth(x, y) > 0.0 ? Place::water : Place::land;
 }
 

@@ -126,7 +126,7 @@ struct FamilyField {
             const double wx = 1.0 - std::fabs(i - gx) * g.cell / radius;
             if (wx <= 0.0) continue;
             const std::size_t n = std::size_t(j) * g.nx + std::size_t(i);
-            if (check_walls && detail::first_wall_hit(walls, sx, sy, g.x(n), g.y(n)).hit) continue;
+            if (check_walls && detail::wall_blocks(walls, sx, sy, g.x(n), g.y(n))) continue;
             const double w = wx * wy;
             weight[n] += w;
             re[n] += w * z.real();
@@ -512,7 +512,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       // Where the march has no wave next to the node (at the waterline, in a wall's lee corner), the
       // shoreline pass below carries the nearest wave there.
       const std::optional<cplx> v = marched->relative(x, y, psi, [&](double cx, double cy) {
-        return near && detail::first_wall_hit(walls, x, y, cx, cy).hit;
+        return near && detail::wall_blocks(walls, x, y, cx, cy);
       });
       incident_part = v.value_or(0.0);
       arrived = v.has_value();
@@ -628,7 +628,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     }
   }
   const auto crosses_wall = [&](std::size_t a, std::size_t b) {
-    return detail::first_wall_hit(walls, geo.x(a), geo.y(a), geo.x(b), geo.y(b)).hit;
+    return detail::wall_blocks(walls, geo.x(a), geo.y(a), geo.x(b), geo.y(b));
   };
   for (std::size_t n = 0; n < nodes; ++n) {
     const std::size_t i = n % geo.nx, j = n / geo.nx;

@@ -97,7 +97,7 @@ Front make_front(const Scene& scene, std::size_t train, const DwtSettings& set, 
     if (!clip_line(d, px, py, f.dx, f.dy, t0, t1)) continue;
     e.x = px + t0 * f.dx;
     e.y = py + t0 * f.dy;
-    if (!outside.empty() && first_wall_hit(outside, e.x - upstream * f.dx, e.y - upstream * f.dy, e.x, e.y).hit) {
+    if (!outside.empty() && wall_blocks(outside, e.x - upstream * f.dx, e.y - upstream * f.dy, e.x, e.y)) {
       e.behind_wall = true;
       continue;
     }

@@ -61,7 +61,7 @@ std::int32_t TrainTracer::insert_midpoint(std::int32_t ia, std::int32_t ib, std:
   r.first_step = j;
   r.joined = true;
   r.fresh = true;
-  const bool in_wall = !capsules_.empty() && first_wall_hit(capsules_, x, y, x, y).hit;
+  const bool in_wall = !capsules_.empty() && wall_blocks(capsules_, x, y, x, y);
   if (in_wall || !(floor_.depth(x, y) > h_min_)) {
     // The parents straddle a wall or a spit of land: the new ray is a cut, with no samples.
     r.alive = false;

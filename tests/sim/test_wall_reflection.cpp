@@ -6,12 +6,15 @@
 #include <cstdio>
 #include <map>
 #include <numbers>
+#include <random>
 #include <utility>
+#include <vector>
 
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "houle/sim/wave_rays.hpp"
 #include "angles.hpp"
+#include "ray_walls.hpp"
 
 namespace {
 
@@ -46,6 +49,30 @@ houle::WaveField traced(const Scene& s) {
   auto f = houle::trace_wave_field(s);
   EXPECT_TRUE(f.ok()) << (f.ok() ? "" : f.error().field + ": " + f.error().message);
   return f.ok() ? std::move(f).value() : houle::WaveField{};
+}
+
+// wall_blocks answers first_wall_hit's `hit` without its bisection: the same answer on random chords
+// near and through random capsules, zero-length chords (a point in a wall) and grazing ones included.
+TEST(WallReflection, WallBlocksIsFirstWallHitsHit) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> at(-10.0, 10.0), radius(0.05, 3.0);
+  int hits = 0, misses = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    std::vector<houle::detail::Capsule> walls;
+    for (int c = 0; c < 1 + trial % 5; ++c) walls.push_back({at(rng), at(rng), at(rng), at(rng), radius(rng), std::uint32_t(c)});
+    const double x0 = at(rng), y0 = at(rng);
+    const bool point = trial % 7 == 0;
+    const double x1 = point ? x0 : at(rng), y1 = point ? y0 : at(rng);
+    const bool blocks = houle::detail::wall_blocks(walls, x0, y0, x1, y1);
+    ASSERT_EQ(blocks, houle::detail::first_wall_hit(walls, x0, y0, x1, y1).hit) << "trial " << trial;
+    (blocks ? hits : misses)++;
+  }
+  // A chord that only touches a capsule's surface blocks for neither.
+  const std::vector<houle::detail::Capsule> wall = {{0.0, 0.0, 10.0, 0.0, 1.0, 0}};
+  EXPECT_FALSE(houle::detail::wall_blocks(wall, -5.0, 1.0, 15.0, 1.0));
+  EXPECT_FALSE(houle::detail::first_wall_hit(wall, -5.0, 1.0, 15.0, 1.0).hit);
+  EXPECT_GT(hits, 200);
+  EXPECT_GT(misses, 200);
 }
 
 TEST(WallReflection, MirrorLawAmplitudeRatioAndPhaseContinuity) {
