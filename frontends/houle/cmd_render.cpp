@@ -149,7 +149,7 @@ int cmd_render(std::span<char* const> argv) {
     const auto mib = [](std::uint64_t b) { return double(b) / 1048576.0; };
     std::fprintf(stderr,
                  "houle render: estimated build: %.0f MiB at the peak (rays %.0f, sea grids %.0f, floor %.0f, image %.0f, "
-                 "program %.0f), %.1f s of CPU (tracing %.1f, sea grids %.1f, floor %.1f), %llu samples\n",
+                 "program %.0f), %.1f s of CPU (tracing %.1f, sea grids %.1f, floor and walls %.1f), %llu samples\n",
                  mib(cost.bytes()), mib(cost.rays), mib(cost.sea), mib(cost.floor), mib(cost.image), mib(cost.program),
                  cost.seconds(), cost.trace_s, cost.sea_s, cost.floor_s, (unsigned long long)cost.samples);
   }
