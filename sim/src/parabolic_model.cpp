@@ -283,9 +283,9 @@ Expected<ParabolicField> march_parabolic(const Scene& scene, const Bathymetry& f
   f.dn = g.dn;
   f.columns = std::uint32_t(nc);
   f.resolved_wavelength = g.resolved_wavelength;
-  f.s.reserve(g.rows_bound);
-  f.phase.reserve(g.rows_bound);
-  f.eta.reserve(g.rows_bound * nc);
+  f.s.reserve(std::size_t(g.rows_bound));
+  f.phase.reserve(std::size_t(g.rows_bound));
+  f.eta.reserve(std::size_t(g.rows_bound * nc));
 
   Row cur, next;
   for (Row* r : {&cur, &next}) {

@@ -96,7 +96,7 @@ ShadowMask ShadowMask::build(const std::vector<RenderBox>& boxes, const std::vec
     const std::int64_t j0 = std::max<std::int64_t>(index(r.y0, all.y0, mask.ny_) - 1, 0);
     const std::int64_t j1 = std::min<std::int64_t>(index(r.y1, all.y0, mask.ny_) + 1, mask.ny_ - 1);
     for (std::int64_t j = j0; j <= j1; ++j) {
-      std::fill_n(mask.cells_.begin() + j * mask.nx_ + i0, i1 - i0 + 1, std::uint8_t(1));
+      std::fill_n(mask.cells_.begin() + std::ptrdiff_t(j * mask.nx_ + i0), std::ptrdiff_t(i1 - i0 + 1), std::uint8_t(1));
     }
   }
   return mask;
