@@ -3,22 +3,7 @@
 # the message. Usage: test_cli.sh <houle binary> <source dir>
 set -uo pipefail
 houle=$1 src=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-pass=0 fail=0
-
-# expect <name> <exit code> <regex the output must match> <command...>
-expect() {
-  local name=$1 code=$2 pattern=$3; shift 3
-  local out rc
-  out=$("$@" 2>&1); rc=$?
-  if [ "$rc" -eq "$code" ] && grep -qE -- "$pattern" <<<"$out"; then
-    pass=$((pass + 1))
-  else
-    fail=$((fail + 1))
-    printf 'FAIL %s: exit %s (want %s), output:\n%s\n(want /%s/)\n' "$name" "$rc" "$code" "$out" "$pattern"
-  fi
-}
+. "$(dirname "$0")/expect.sh"
 # scene <name> <toml>: writes a scene file and prints its path
 scene() { printf '%s\n' "$2" >"$work/$1.toml"; echo "$work/$1.toml"; }
 

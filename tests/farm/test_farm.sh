@@ -4,24 +4,10 @@
 # Usage: test_farm.sh <houle binary> <source dir>
 set -uo pipefail
 houle=$(realpath "$1") src=$(realpath "$2")
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+. "$(dirname "$0")/../cli/expect.sh"
 cd "$work" || exit 1
-pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
-
-# expect <name> <exit code> <regex the output must match> <command...>
-expect() {
-  local name=$1 code=$2 pattern=$3; shift 3
-  local out rc
-  out=$("$@" 2>&1); rc=$?
-  if [ "$rc" -eq "$code" ] && grep -qE -- "$pattern" <<<"$out"; then
-    ok
-  else
-    bad "$name: exit $rc (want $code), output:"; printf '%s\n(want /%s/)\n' "$out" "$pattern"
-  fi
-}
 # Lines "houle render: N frames written" of task logs, added up.
 written() { cat "$@" 2>/dev/null | sed -nE 's/^houle render: ([0-9]+) frames written.*/\1/p' | awk '{ s += $1 } END { print s + 0 }'; }
 
