@@ -169,6 +169,8 @@ void TrainTracer::start_front() {
     }
     r.st = RayState{e.x, e.y, e.theta, e.phi, 0.0, e.tau};
     r.sync_direction();
+    r.home_x = r.cos_t;
+    r.home_y = r.sin_t;
     r.w = e.wave;
     r.a_geo = e.amplitude;
     r.cg_prev = r.w.cg;

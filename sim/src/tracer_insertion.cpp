@@ -58,6 +58,8 @@ std::int32_t TrainTracer::insert_midpoint(std::int32_t ia, std::int32_t ib, std:
   const double theta = std::atan2(a.sin_t + b.sin_t, a.cos_t + b.cos_t);
   r.st = RayState{x, y, theta, grid_phase(j), 0.5 * (a.st.s + b.st.s), 0.5 * (a.st.tau + b.st.tau)};
   r.sync_direction();
+  const double hx = a.home_x + b.home_x, hy = a.home_y + b.home_y, h = std::hypot(hx, hy);
+  if (h > 0.0) r.home_x = hx / h, r.home_y = hy / h;
   r.first_step = j;
   r.joined = true;
   r.fresh = true;

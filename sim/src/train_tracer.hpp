@@ -159,6 +159,7 @@ struct alignas(64) Ray {
   double tube_sigma = 0.0;       // perpendicular spacing, m
   StagedSample* latest = nullptr;  // in samples; null before the first (or if the cap refused it)
   ChunkList samples;             // in a lane's SampleStore: appended to on every step
+  double home_x = 1.0, home_y = 0.0;  // the direction the ray set out in (turned_back)
   // Lines 3-4: the wave at st (its hot fields first; aligned where pointers are 4 bytes).
   alignas(64) LocalWave w{};
   // Cold: lineage.
@@ -173,7 +174,8 @@ struct alignas(64) Ray {
     sin_t = std::sin(st.theta);
   }
 };
-static_assert(offsetof(Ray, alive) == 64 && offsetof(Ray, tube_sigma) == 128 && offsetof(Ray, w) == 192,
+static_assert(offsetof(Ray, alive) == 64 && offsetof(Ray, tube_sigma) == 128 && offsetof(Ray, home_y) < 192 &&
+                  offsetof(Ray, w) == 192,
               "Ray's hot fields are in its first four lines");
 
 enum class Stop : std::uint8_t { none, wall, domain, shore, turned };
@@ -374,15 +376,13 @@ class TrainTracer {
     return false;
   }
 
-  // An incident ray that refraction has turned against the train's direction of travel ends there
-  // (docs/physics.md 2.6). Only a floor that changes within a wavelength turns a ray that far (round
-  // an island or a steep shoal), where rays no longer describe the wave; what is scattered back is
-  // small and mostly breaks on the shoal, and a scatterer must not change the sea upstream of it. The
-  // parabolic models of the mild-slope equation drop the back-scattered wave for the same reason.
-  // Reflected waves travel back by design: they are exempt.
-  bool turned_back(const Ray& r) const noexcept {
-    return !reflected_ && r.cos_t * front_.dx + r.sin_t * front_.dy < 0.0;
-  }
+  // A ray that refraction has turned more than 90 degrees from the direction it set out in ends
+  // there (docs/physics.md 2.6). Only a floor that changes within a wavelength turns a ray that far
+  // (round an island or a steep shoal), where rays no longer describe the wave; what is scattered
+  // back is small and mostly breaks on the shoal, and a scatterer must not change the sea upstream of
+  // it. The parabolic models of the mild-slope equation drop the back-scattered wave for the same
+  // reason. A reflected ray sets out from its wall, so it is held to its own direction there.
+  static bool turned_back(const Ray& r) noexcept { return r.cos_t * r.home_x + r.sin_t * r.home_y < 0.0; }
 
   bool live_on_step(const Ray& r) const noexcept { return r.alive && r.joined; }
 

@@ -115,4 +115,33 @@ TEST(Islands, RaysRoundAnIslandStayFewAndEndWhenTheyTurnBack) {
   }
 }
 
+// A breakwater in the island's lee reflects the wave back onto it. Reflected rays are held to the
+// direction they left the wall in, as incident rays are to their train's: traced on round the island,
+// they orbited it and insertion filled the gaps until the sample cap (21,456 reflected rays in a
+// user's harbour scene, which then refused to render).
+TEST(Islands, ReflectedRaysRoundAnIslandEndWhenTheyTurnBack) {
+  houle::Scene s = with_shoal(9.0);
+  houle::Wall w;
+  w.points = {{70.0, 185.0}, {130.0, 185.0}};
+  w.thickness = 2.0;
+  s.walls = {w};
+  auto field = houle::trace_wave_field(s);
+  ASSERT_TRUE(field.ok()) << field.error().message;
+  EXPECT_FALSE(field->stats.truncated);
+  ASSERT_EQ(field->reflections.size(), 1u);
+  const houle::WaveRays& r = field->reflections[0].rays;
+  std::printf("reflected wave: %zu rays, %zu samples\n", r.ray_count(), r.sample_count());
+  EXPECT_LT(r.ray_count(), 4000u);  // 2,250 today
+  std::size_t checked = 0;
+  for (std::size_t q = 0; q < r.ray_count(); ++q) {
+    const std::size_t first = r.sample_begin[q];
+    for (std::size_t k = first; k < r.sample_begin[q + 1]; ++k) {
+      if (r.sample_flags[k] & houle::sample_flag::off_grid) continue;
+      ASSERT_GE(std::cos(r.theta[k] - r.theta[first]), -1e-9) << "reflected ray " << q << " sample " << k;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000u);
+}
+
 }  // namespace
