@@ -3,8 +3,10 @@
 the shipped ones to the extremes the limits allow: each is rendered (one draft frame, one thread) by
 `houle render --verbose`, whose estimates (before the build; once the rays are traced, before the
 sea's grids) are read from its output and compared with the process's peak resident set (getrusage
-of the child). Fails when the second is more than 25 % off; prints the table (scene, estimates,
-measured, ratio, estimated and measured CPU).
+of the child). Fails when the second is more than 25 % off, or when the CPU time estimated before
+the build and the one measured are more than 3 times apart (with 2 s of slack for start-up and
+small builds; a build that surprised by minutes is what this holds); prints the table (scene,
+estimates, measured, ratio, estimated and measured CPU).
 
 usage: build_cost_sweep.py HOULE SOURCE_DIR [--only NAME] [--large]
 
@@ -115,9 +117,12 @@ for name, path in sweep:
     held = float(traced.group(1))
     ratio = held / measured
     ok = 0.75 <= ratio <= 1.25
-    failures += not ok
-    print("| %s | %.0f | %.0f | %.0f | %.2f%s | %s | %.1f |" % (name, estimate, float(traced.group(1)), measured, ratio,
-                                                            "" if ok else " FAIL", m.group(2), cpu))
+    cpu_estimate = float(m.group(2))
+    cpu_ok = cpu <= 3.0 * cpu_estimate + 2.0 and cpu_estimate <= 3.0 * cpu + 2.0
+    failures += not ok or not cpu_ok
+    print("| %s | %.0f | %.0f | %.0f | %.2f%s | %s | %.1f%s |" % (name, estimate, float(traced.group(1)), measured, ratio,
+                                                              "" if ok else " FAIL", m.group(2), cpu,
+                                                              "" if cpu_ok else " FAIL"))
     if "--parts" in sys.argv:
         print(re.search(r"estimated build: .*", p.stderr).group(0))
     sys.stdout.flush()
