@@ -189,6 +189,13 @@ mkdir "$work/map-dir"
 expect height-map-dir 2 'floor.height_map.file: height map: cannot open the image: not a regular file' "$houle" validate "$(hm height-map-dir map-dir)"
 png 512 512 | head -c 200 >"$work/cut.png"
 expect height-map-truncated 2 'floor.height_map.file: height map: cannot read the image: .*[a-z]' "$houle" validate "$(hm height-map-truncated cut.png)"
+# lines <command...>: the number of lines the command prints, and its exit code
+lines() { local out rc; out=$("$@" 2>&1); rc=$?; printf '%s lines\n' "$(printf '%s\n' "$out" | wc -l)"; return $rc; }
+# The error is one line with its place: libpng's own complaints are folded into it.
+expect height-map-truncated-one-line 2 '^1 lines$' lines "$houle" validate "$(hm height-map-truncated cut.png)"
+printf 'P5\n64 64\n255\n0123456789' >"$work/cut.pgm"
+expect height-map-truncated-pgm 2 'floor.height_map.file: height map: cannot read the image: the file ends before its last pixel' \
+  "$houle" validate "$(hm height-map-truncated-pgm cut.pgm)"
 f=$(scene many-samples '[domain]
 x_max = 4000.0
 y_max = 4000.0
