@@ -120,6 +120,8 @@ TrainTracer::TrainTracer(const Scene& scene, std::size_t train, const DwtSetting
   init_medium();
   front_ = make_front(scene, train, set, medium_);
   set_step(front_.dphi);
+  marched_ = scene_wave_model(scene).kind == WaveModelKind::parabolic;
+  marched_budget_ = marched_ray_factor * front_.entries.size();
 }
 
 void TrainTracer::init_medium() {

@@ -28,6 +28,7 @@ bool TrainTracer::insert_rays(std::int32_t j) {
     if (!pair_real_[i] || !(pair_sigma_[i] > b_max)) continue;  // not two live rays, or close enough
     const std::int32_t ia = order_[i], ib = order_[i + 1];
     if (rays_[std::size_t(ia)].crossed_with == ib) continue;  // never between crossed rays (docs/physics.md 2.4)
+    if (marched_ && rays_.size() >= marched_budget_) continue;  // the carrier march fills the gaps
     if (rays_.size() >= set_.max_rays) {
       ++main_.stats.insertions_refused;
       main_.truncated = true;

@@ -95,7 +95,10 @@ WaveRays TrainTracer::finish(DwtStats& stats, const Also& also) {
     out.parent_a[i] = r.parent_a >= 0 ? rank[std::size_t(r.parent_a)] : -1;
     out.parent_b[i] = r.parent_b >= 0 ? rank[std::size_t(r.parent_b)] : -1;
   }
-  main_.stats.truncated = main_.stats.truncated || main_.truncated;
+  // Where the march carries the field and no wall reflects, rays stopped by a cap leave nothing
+  // missing: the carrier march fills the phase beyond them (docs/physics.md 10.6).
+  const bool carrier_only = marched_ && !(set_.reflection && scene_has_reflecting_walls(scene_));
+  main_.stats.truncated = !carrier_only && (main_.stats.truncated || main_.truncated);
   stats = main_.stats;
   return out;
 }

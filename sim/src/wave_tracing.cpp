@@ -10,6 +10,7 @@
 
 #include "houle/runtime/thread_pool.hpp"
 #include "houle/sim/bathymetry.hpp"
+#include "houle/sim/build_cost.hpp"
 #include "houle/sim/dispersion.hpp"
 #include "houle/sim/scene_keys.hpp"
 #include "houle/sim/wave_rays.hpp"
@@ -167,18 +168,29 @@ DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& set
 std::vector<Error> trace_cap_warnings(const Scene& scene) {
   std::vector<Error> warnings;
   const DwtSettings& d = scene.dwt;
+  // Where the march carries the field and no wall reflects, a cap leaves nothing missing (tracer_output.cpp).
+  if (scene_wave_model(scene).kind == WaveModelKind::parabolic && !(d.reflection && scene_has_reflecting_walls(scene))) {
+    return warnings;
+  }
+  const std::string likely = ": the trace is likely to stop there (an error unless dwt.on_cap = \"warn\")";
   for (std::size_t i = 0; i < scene.trains.size(); ++i) {
     if (d.analytic_shortcut && !train_needs_rays(scene, i)) continue;
     const FrontSize f = front_size(scene, i, d);
     const double steps = std::floor(f.length / d.step) + 1.0, samples = double(f.rays) * steps;
-    if (samples <= double(d.max_samples)) continue;
-    warnings.push_back(Error{"dwt.max_samples",
-                             "trains[" + std::to_string(i) + "]'s " + std::to_string(f.rays) + " initial rays cross the " +
-                                 scene_keys::number_text(std::round(f.length * 1e3) / 1e3) + " m domain in " +
-                                 scene_keys::number_text(steps) + " steps of dwt.step, about " +
-                                 scene_keys::number_text(std::round(samples)) + " samples before any insertion, "
-                                 "over this cap of " + std::to_string(d.max_samples) +
-                                 ": the trace is likely to stop there (an error unless dwt.on_cap = \"warn\")"});
+    const std::string train = "trains[" + std::to_string(i) + "]'s ";
+    if (samples > double(d.max_samples)) {
+      warnings.push_back(Error{"dwt.max_samples",
+                               train + std::to_string(f.rays) + " initial rays cross the " +
+                                   scene_keys::number_text(std::round(f.length * 1e3) / 1e3) + " m domain in " +
+                                   scene_keys::number_text(steps) + " steps of dwt.step, about " +
+                                   scene_keys::number_text(std::round(samples)) + " samples before any insertion, "
+                                   "over this cap of " + std::to_string(d.max_samples) + likely});
+    } else if (expected_trace_samples(scene, i) >= double(d.max_samples)) {
+      warnings.push_back(Error{"dwt.max_samples",
+                               train + "rays, with those that insertion adds where the floor refracts them apart, are "
+                                       "expected to take more samples than this cap of " +
+                                   std::to_string(d.max_samples) + likely});
+    }
   }
   return warnings;
 }

@@ -159,3 +159,45 @@ TEST(ParabolicModel, AHugeDomainStaysWithinItsNodeBudget) {
   std::printf("4 km domain, 3 s waves: %zu x %u march nodes (budget %llu), wavelengths down to %.2f m resolved\n",
               f->rows(), f->columns, static_cast<unsigned long long>(houle::detail::max_parabolic_nodes), f->resolved_wavelength);
 }
+
+// A rough floor (24 each of shoals, bars and channels on a 200 m beach): rays split round every
+// feature, and insertion went on to dwt.max_rays (32,768 rays from 257), where the trace stopped and
+// the default on_cap = "error" refused a scene that validated. Where the march carries the field the
+// rays only seed the carrier: insertion stops at its budget, and a cap is no truncation.
+TEST(ParabolicModel, RaysOverARoughFloorStayWithinTheirBudget) {
+  houle::Scene s;
+  s.domain = {0.0, 0.0, 200.0, 200.0};
+  s.floor.base.kind = houle::FloorKind::planar_beach;
+  s.floor.base.depth = 15.0;
+  s.floor.base.slope = 0.02;
+  s.floor.base.shoreline = {0.0, 190.0};
+  std::uint64_t state = 1;
+  const auto uniform = [&](double lo, double hi) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return lo + (hi - lo) * double(state >> 11) * 0x1p-53;
+  };
+  for (int i = 0; i < 24; ++i) {
+    s.floor.shoals.push_back({{uniform(0, 200), uniform(0, 160)}, uniform(2, 20), uniform(2, 20), 0.0, uniform(-2, 2)});
+    s.floor.bars.push_back({{uniform(0, 200), uniform(0, 160)}, uniform(-30, 30), uniform(1, 5), uniform(-0.5, 0.5)});
+    s.floor.channels.push_back({{uniform(0, 200), uniform(0, 160)}, {uniform(0, 200), uniform(0, 160)}, uniform(1, 5), uniform(-1, 1)});
+  }
+  houle::WaveTrain t;
+  t.direction_deg = 70.0;
+  t.period = 4.0;
+  t.amplitude = 0.3;
+  s.trains = {t};
+  ASSERT_EQ(houle::scene_wave_model(s).kind, houle::WaveModelKind::parabolic);
+  houle::DwtStats stats;
+  auto rays = houle::trace_train(s, 0, s.dwt, &stats, 1);
+  ASSERT_TRUE(rays.ok());
+  std::printf("rough floor: %llu rays from %llu initial, %llu samples\n", (unsigned long long)stats.rays,
+              (unsigned long long)stats.initial_rays, (unsigned long long)stats.samples);
+  EXPECT_LE(stats.rays, 8 * stats.initial_rays);
+  EXPECT_FALSE(stats.truncated);
+  auto field = houle::trace_wave_field(s, 1);
+  ASSERT_TRUE(field.ok()) << field.error().message;
+  auto sea = houle::SeaSurface::build(s, *field, 1.0f);
+  ASSERT_TRUE(sea.ok());
+  // The sea among the features has its wave (the march's), though the rays stopped refining.
+  EXPECT_GT(sea->probe(0, 100.0f, 40.0f).amplitude, 0.1f);  // 0.15 m; 0.3 offshore
+}

@@ -205,6 +205,29 @@ TEST(Scene, ATraceLikelyToReachItsCapIsWarnedOf) {
   ASSERT_EQ(w.size(), 1u);
   EXPECT_EQ(w[0].field, "dwt.max_samples");
   EXPECT_NE(w[0].message.find("201 initial rays cross the 200 m domain in 40001 steps"), std::string::npos) << w[0].message;
+  // Under a larger cap the initial rays fit, the rays insertion adds on the beach still do not.
+  s.dwt.max_samples = 1u << 24;
+  const std::vector<houle::Error> inserted = houle::trace_cap_warnings(s);
+  ASSERT_EQ(inserted.size(), 1u);
+  EXPECT_NE(inserted[0].message.find("with those that insertion adds"), std::string::npos) << inserted[0].message;
+  s.dwt.step = 0.01;
+  EXPECT_TRUE(houle::trace_cap_warnings(s).empty());
+}
+
+// The initial rays alone may fit under the cap while the rays insertion adds over a refracting
+// floor do not: a 1 km beach took 4,194,304 samples (the cap) and stopped, and validate said nothing.
+TEST(Scene, ATraceLikelyToReachItsCapWithInsertedRaysIsWarnedOf) {
+  Scene s = with_train();
+  s.trains.resize(1);
+  s.domain = {0.0, 0.0, 1000.0, 1000.0};
+  s.floor.base.kind = houle::FloorKind::planar_beach;
+  s.floor.base.depth = 15.0;
+  s.floor.base.slope = 0.02;
+  s.floor.base.shoreline = {0.0, 950.0};
+  const std::vector<houle::Error> w = houle::trace_cap_warnings(s);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].field, "dwt.max_samples");
+  EXPECT_NE(w[0].message.find("with those that insertion adds"), std::string::npos) << w[0].message;
   s.dwt.max_samples = 1u << 24;
   EXPECT_TRUE(houle::trace_cap_warnings(s).empty());
 }

@@ -606,6 +606,8 @@ TEST(WaveTracing, CapsBoundTheOutput) {
 // (truncated in the stats, which every command reports).
 TEST(WaveTracing, ACapIsAnErrorUnlessTheSceneAllowsIt) {
   Scene s = shoal_scene(3.0);
+  // With rays (a marched train's rays only seed the carrier: test_parabolic_model.cpp).
+  s.wave_model.kind = houle::WaveModelKind::rays;
   ASSERT_TRUE(houle::trace_wave_field(s, 1).ok());
   s.dwt.max_samples = 5000;
   const auto refused = houle::trace_wave_field(s, 1);

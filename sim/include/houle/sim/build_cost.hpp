@@ -37,6 +37,11 @@ struct BuildCost {
 BuildCost estimate_build_cost(const Scene& scene, const Quality& quality, std::uint64_t pixels, unsigned threads,
                               const WaveField* traced = nullptr);
 
+/// The samples train `train` of a valid scene is expected to take (estimate_build_cost's prediction:
+/// its initial rays marched straight, and the rays insertion adds where the floor refracts), at most
+/// dwt.max_samples, which a train expected to reach that cap gets.
+double expected_trace_samples(const Scene& scene, std::size_t train);
+
 /// Builds longer than this (estimated CPU time at the cheapest quality) are refused by `validate`.
 inline constexpr double max_build_seconds = 300.0;
 
