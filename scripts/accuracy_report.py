@@ -110,6 +110,14 @@ KNOBS = {
         "(right), probed as `houle probe` reads the sea at realtime's 0.5 m cells. Time: the whole scene "
         "build (trace and sea surface), one thread. `auto` picks the parabolic model over this height map.",
     ),
+    "effects": (
+        "Effects",
+        "What each effect of the built-in coast costs a frame, and what leaving it out changes: one switched "
+        "off at a time (the capillary ripples, the shadow rays, the reflected rays' object tests, the jetty "
+        "with its diffraction, reflection and shadow), against the coast with all of them. The effect plan "
+        "(docs/design.md) switches each off by itself in a scene that does not call for it, so a scene pays "
+        "only for what it has; `houle info` prints the plan. Time: the whole realtime frame.",
+    ),
     "sea_state.components": (
         "Sea-state components",
         "SeaState::components: the trains a [[sea_states]] spectrum is expanded into (docs/physics.md 2.9), "
@@ -123,7 +131,7 @@ KNOBS = {
     ),
 }
 PAPER_NAMES = ["paper", "paper_corrected", "exact_float", "exact"]
-NAMED_KNOBS = ("diffraction.model", "wave_model")  # their rows are named variants, not values
+NAMED_KNOBS = ("diffraction.model", "wave_model", "effects")  # their rows are named variants, not values
 
 
 def read_csv(path):
@@ -343,7 +351,7 @@ def main():
     order = ["march.step_fraction", "march.refine_iterations", "render.samples_per_pixel",
              "render.spectral_absorption", "capillary.max_octaves", "surface.cells", "surface.finest_cell",
              "surface.levels", "sea_cell", "dwt.step", "dwt.insertion_distance", "diffraction.model",
-             "sea_state.components", "wave_model"]
+             "sea_state.components", "wave_model", "effects"]
     for knob in order + [k for k in by_knob if k not in order]:
         rows = by_knob.get(knob)
         if not rows:

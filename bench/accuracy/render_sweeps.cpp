@@ -145,6 +145,50 @@ std::string format_value(double v) {
   return b;
 }
 
+/// What each effect of the built-in coast costs a frame and what leaving it out changes in the image:
+/// each variant switches one off, against the coast with all of them (the effect plan switches them
+/// off by itself in scenes that do not call for them: docs/design.md).
+void sweep_effects(const Options& o, std::vector<Row>& rows) {
+  struct Variant {
+    const char* name;
+    void (*set)(Scene&, Quality&);
+  };
+  const Variant variants[] = {
+      {"all effects", [](Scene&, Quality&) {}},
+      {"no capillary ripples", [](Scene& s, Quality&) { s.capillary.amplitude = 0.0; }},
+      {"no shadows", [](Scene&, Quality& q) { q.render.shadows = false; }},
+      {"no object reflections", [](Scene&, Quality& q) { q.render.reflect_objects = false; }},
+      {"no jetty (diffraction, wall reflection, its shadow)", [](Scene& s, Quality&) { s.walls.clear(); }},
+  };
+  const Scene coast = builtin_coast();
+  const Quality base = quality_preset(o.base);
+  std::vector<Framebuffer> ref;
+  const std::size_t n = o.smoke ? 2 : std::size(variants);
+  for (std::size_t i = 0; i < n; ++i) {
+    Scene s = coast;
+    Quality q = base;
+    variants[i].set(s, q);
+    const Rendered r = render(s, q, o.width, o.height, o.frames, o.timing_repeats, o.threads);
+    if (i == 0) ref = r.frames;
+    const ImageError e = error(r.frames, ref);
+    Row row;
+    row.knob = "effects";
+    row.value = double(i);
+    row.presets = variants[i].name;
+    row.time = median(r.frame);
+    row.time_what = "whole frame (ms)";
+    row.frame_ms = row.time;
+    row.error = e.rmse;
+    row.error_what = "image RMSE";
+    row.error2 = e.dssim;
+    row.error2_what = "1 - SSIM";
+    row.reference = "the built-in coast with all its effects, " + std::to_string(o.width) + "x" +
+                    std::to_string(o.height) + ", " + std::string(quality_name(o.base));
+    std::fprintf(stderr, "effects: %s: %.2f ms, RMSE %.5f, 1-SSIM %.5f\n", variants[i].name, row.time, e.rmse, e.dssim);
+    rows.push_back(std::move(row));
+  }
+}
+
 }  // namespace
 
 std::vector<Row> sweep_image_knobs(const Options& o) {
@@ -202,6 +246,7 @@ std::vector<Row> sweep_image_knobs(const Options& o) {
       rows.push_back(std::move(row));
     }
   }
+  if (o.only.empty() || o.only == "effects") sweep_effects(o, rows);
   return rows;
 }
 
