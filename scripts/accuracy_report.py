@@ -301,8 +301,8 @@ def main():
             if not j:
                 continue
             f = j["stages_ms"]["frame"]
-            w(f"| {size} | {j['isa']} | {f['median']:.0f} ms | {f['p90']:.0f} ms | {f['p99']:.0f} ms | "
-              f"{f['max']:.0f} ms | `{prefix}houle bench --frames {j['frames']} --size {size}` |")
+            w(f"| {size} | {j['context']['isa']} | {f['median']:.0f} ms | {f['p90']:.0f} ms | {f['p99']:.0f} ms | "
+              f"{f['max']:.0f} ms | `{prefix}houle bench --frames {j['context']['frames']} --size {size}` |")
     w("")
     w("### Are the presets on the front?")
     w("")
@@ -334,7 +334,7 @@ def main():
     if plate3:
         f = plate3["stages_ms"]["frame"]
         w(f"| Plate 3: 1050x675, 8 rays per pixel | 30 min | {fmt_ms(f['median'])} a frame (`film`: 8 samples per "
-          f"pixel, 2 threads, {plate3['isa']}; scene build {fmt_ms(plate3['build_ms'])}) | "
+          f"pixel, 2 threads, {plate3['context']['isa']}; scene build {fmt_ms(plate3['build_ms'])}) | "
           f"`houle bench scenes/paper_plate3.toml --size 1050x675 --quality film --frames 2 --warmup 1` |")
     w("")
     w("The paper's times are for a 180 MHz MIPS R5000 (1998); the clock and the two cores account for part "

@@ -23,7 +23,7 @@ struct BuildCost {
   std::uint64_t rays = 0, sea = 0, floor = 0, image = 0, program = 0;
   /// CPU seconds on one core of the development machine (AMD EPYC, docs/design.md 7), by stage.
   double trace_s = 0.0, sea_s = 0.0, floor_s = 0.0;  ///< floor_s: the floor grid, the walls' blocks and the objects
-  /// Samples the traced trains are expected to take (the initial rays' straight paths, within the caps).
+  /// Samples the traced trains are expected to take (expected_trace_samples, and their reflected waves).
   std::uint64_t samples = 0;
 
   std::uint64_t bytes() const noexcept { return rays + sea + floor + image + program; }
