@@ -392,8 +392,9 @@ TEST(Renderer, FillSurfaceOnItsThreadsEqualsTheOnePieceFill) {
   Renderer r = make_renderer(test_scene(), W, H, {}, 3);
   auto g = houle::make_gerstner_frame(two_trains(), 1.7);
   ASSERT_TRUE(g.ok());
-  const auto sampler = [](void* c, const float* x, const float* y, std::size_t n, float* h, float* gx, float* gy) noexcept {
-    houle::gerstner_eval(*static_cast<const houle::GerstnerFrame*>(c), x, y, n, {h, gx, gy});
+  const auto sampler = [](void* c, const houle::SurfaceSamples& s) noexcept {
+    houle::gerstner_eval(*static_cast<const houle::GerstnerFrame*>(c), s.x, s.y, s.n, {s.height, s.grad_x, s.grad_y});
+    std::fill(s.slope_variance, s.slope_variance + s.n, 0.0f);
   };
   for (bool restricted : {false, true}) {
     auto a = houle::SurfaceFrame::create(small_frame_config()), b = houle::SurfaceFrame::create(small_frame_config());

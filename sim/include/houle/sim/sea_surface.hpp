@@ -93,9 +93,9 @@ class SeaSurface {
   void set_time(double time_s) noexcept;
   /// Height (m, above still water) and gradient at n points; no allocation.
   void eval(const float* x, const float* y, std::size_t n, float* height, float* grad_x, float* grad_y) const noexcept;
-  /// For SurfaceFrame::fill: `context` is a const SeaSurface*.
-  static void sample(void* context, const float* x, const float* y, std::size_t n, float* height, float* grad_x,
-                     float* grad_y) noexcept;
+  /// For SurfaceFrame::fill: `context` is a const SeaSurface*. Unlike eval(), each train fades out
+  /// where the run's footprint cannot resolve it, its slopes going into the run's slope variance.
+  static void sample(void* context, const SurfaceSamples& samples) noexcept;
 
   /// Train `train` of the scene at (x, y) at the time set last.
   TrainProbe probe(std::size_t train, float x, float y) const noexcept;
