@@ -33,6 +33,10 @@ namespace houle {
 
 class Bathymetry;
 
+/// Foam left behind the break line fades by e over this many local wavelengths travelled
+/// (docs/rendering.md 3.7).
+inline constexpr double foam_decay_wavelengths = 2.0;
+
 /// One train's static fields: the arrays behind its TrainGrid (empty for analytic trains).
 struct TrainField {
   double omega = 0.0;  ///< rad/s
@@ -101,8 +105,10 @@ class SeaSurface {
   TrainProbe probe(std::size_t train, float x, float y) const noexcept;
 
   /// Where the waves break, for the renderer's foam (docs/rendering.md 3.7): the traced trains'
-  /// breaking measure, the strongest at each node with its direction and amplitude, and foam at the toes
-  /// of the scene's walls where waves reach them. Empty (nx = ny = 0) when nothing breaks.
+  /// breaking measure carried shoreward with the waves and decaying behind the break line (over
+  /// foam_decay_wavelengths local wavelengths), the strongest at each node with its direction and
+  /// amplitude, and foam at the toes of the scene's walls where waves reach them. Empty (nx = ny = 0)
+  /// when nothing breaks.
   SurfMap surf_map(const Scene& scene) const;
 
   /// The scene's trains in order (each with its reflected waves).
