@@ -18,21 +18,22 @@ namespace {
 // crash_amplitude m (all of a train's fields summed: incident, diffracted, reflected), less below.
 constexpr double toe_reach = 2.5, crash_amplitude = 0.25;
 
-/// The local wave vector (rad/m) at node n: the carrier's plus the gradient of B's phase (central
-/// differences; one-sided at the grid's edges). Where the model's carrier is not the wave's (the
-/// parabolic model's marched field, a wave carried past the rays' end) B's phase turns it.
+/// The local wave vector (rad/m) at node n: the carrier's plus the gradient of B's phase,
+/// Im(conj(B) grad B) / |B|^2 with grad B by central differences (one-sided at the grid's edges). Where
+/// the model's carrier is not the wave's (the parabolic model's marched field, a wave carried past the
+/// rays' end) B's phase turns it.
 std::pair<double, double> wave_vector(const TrainField& f, const TrainGrid& g, std::size_t n) {
   const std::size_t i = n % g.nx, j = n / g.nx;
-  const auto phase_slope = [&](std::size_t a, std::size_t b, double span) {
-    // arg(B_b / B_a) / span: the phase difference without wrapping.
-    const std::complex<double> ba(f.b_re[a], f.b_im[a]), bb(f.b_re[b], f.b_im[b]);
-    const std::complex<double> r = bb * std::conj(ba);
-    return r == 0.0 ? 0.0 : std::arg(r) / span;
+  const std::complex<double> b(f.b_re[n], f.b_im[n]);
+  const double b2 = std::norm(b);
+  const auto phase_slope = [&](std::size_t lo, std::size_t hi, double span) {
+    const std::complex<double> d = std::complex<double>(f.b_re[hi] - f.b_re[lo], f.b_im[hi] - f.b_im[lo]);
+    return b2 > 0.0 && span > 0.0 ? (std::conj(b) * d).imag() / (b2 * span) : 0.0;
   };
   const std::size_t w = i > 0 ? n - 1 : n, e = i + 1 < g.nx ? n + 1 : n;
-  const std::size_t s = j > 0 ? n - g.nx : n, nn = j + 1 < g.ny ? n + g.nx : n;
-  const double gx = e != w ? phase_slope(w, e, double(e - w) * double(g.cell)) : 0.0;
-  const double gy = nn != s ? phase_slope(s, nn, double((nn - s) / g.nx) * double(g.cell)) : 0.0;
+  const std::size_t s = j > 0 ? n - g.nx : n, north = j + 1 < g.ny ? n + g.nx : n;
+  const double gx = phase_slope(w, e, double(e - w) * double(g.cell));
+  const double gy = phase_slope(s, north, double((north - s) / g.nx) * double(g.cell));
   return {double(f.kx[n]) + gx, double(f.ky[n]) + gy};
 }
 
@@ -46,25 +47,39 @@ std::vector<float> carried_foam(const TrainField& f, const TrainGrid& g) {
   constexpr double infinite = std::numeric_limits<double>::infinity(), cutoff = 4.605170185988091;  // -ln 0.01
   constexpr double cos_cone = 0.906307787;  // cos 25 deg: the neighbour nearest the travel, or two
   std::vector<double> cost(nodes, infinite);
-  using Entry = std::pair<double, std::uint32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;  // ties by node: deterministic
   for (std::size_t n = 0; n < nodes; ++n) {
-    if (f.breaking[n] > 0.0f) {
-      cost[n] = -std::log(double(f.breaking[n]));
-      open.push({cost[n], std::uint32_t(n)});
-    }
+    if (f.breaking[n] > 0.0f) cost[n] = f.breaking[n] < 1.0f ? -std::log(double(f.breaking[n])) : 0.0;
   }
+  // Whether a node's foam could strengthen a neighbour's (inside the surf zone every neighbour already
+  // has foam as strong: most of the seeds).
+  const auto improves = [&](std::size_t n, double c) {
+    const std::int64_t i = std::int64_t(n % g.nx), j = std::int64_t(n / g.nx);
+    for (std::int64_t dj = -1; dj <= 1; ++dj) {
+      for (std::int64_t di = -1; di <= 1; ++di) {
+        if (i + di < 0 || j + dj < 0 || i + di >= std::int64_t(g.nx) || j + dj >= std::int64_t(g.ny)) continue;
+        if (cost[std::size_t((j + dj) * std::int64_t(g.nx) + i + di)] > c) return true;
+      }
+    }
+    return false;
+  };
+  using Entry = std::pair<double, std::uint32_t>;
+  std::vector<Entry> seeds;
+  for (std::size_t n = 0; n < nodes; ++n) {
+    if (cost[n] < infinite && improves(n, cost[n])) seeds.push_back({cost[n], std::uint32_t(n)});
+  }
+  if (seeds.empty()) return f.breaking;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open(std::greater<>(), std::move(seeds));  // ties by node: deterministic
   const auto carries = [&](std::size_t n) { return f.b_re[n] != 0.0f || f.b_im[n] != 0.0f; };
   while (!open.empty()) {
     const auto [c, n] = open.top();
     open.pop();
-    if (c > cost[n] || !carries(n)) continue;
+    if (c > cost[n] || !carries(n) || !improves(n, c)) continue;
+    const std::int64_t i = std::int64_t(n % g.nx), j = std::int64_t(n / g.nx);
     const auto [kx, ky] = wave_vector(f, g, n);
     const double k = std::hypot(kx, ky);
     if (!(k > 0.0)) continue;
     const double ux = kx / k, uy = ky / k;
     const double per_metre = k / (2.0 * 3.141592653589793 * foam_decay_wavelengths);
-    const std::int64_t i = std::int64_t(n % g.nx), j = std::int64_t(n / g.nx);
     for (std::int64_t dj = -1; dj <= 1; ++dj) {
       for (std::int64_t di = -1; di <= 1; ++di) {
         if ((di == 0 && dj == 0) || i + di < 0 || j + dj < 0 || i + di >= std::int64_t(g.nx) || j + dj >= std::int64_t(g.ny)) continue;
