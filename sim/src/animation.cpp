@@ -163,6 +163,7 @@ void Animation::render(double time_s, Framebuffer& out) noexcept {
   }
   surface_.begin_frame(camera_.position[0], camera_.position[1]);
   surface_.restrict_to_view(camera_);  // every ray the renderer marches over the sea starts at the camera
+  surface_.set_viewer(camera_);        // and its pixels set what the nodes can hold
   renderer_.fill_surface(surface_, &SeaSurface::sample, sea_.get());
   times_.surface_ms = ms_since(t0);
   t0 = Clock::now();

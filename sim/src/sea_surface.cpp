@@ -781,10 +781,11 @@ TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept
   return p;
 }
 
-void SeaSurface::sample(void* context, const float* x, const float* y, std::size_t n, float* height, float* grad_x,
-                        float* grad_y) noexcept {
+void SeaSurface::sample(void* context, const SurfaceSamples& s) noexcept {
   HOULE_ASSERT(context != nullptr, "SeaSurface::sample: a SeaSurface as the context");
-  static_cast<const SeaSurface*>(context)->eval(x, y, n, height, grad_x, grad_y);
+  // The frame's nodes hold only the waves their footprint resolves (docs/rendering.md 5.5).
+  train_grid_eval(static_cast<const SeaSurface*>(context)->frame_, s.x, s.y, s.n, s.footprint,
+                  {s.height, s.grad_x, s.grad_y}, s.slope_variance);
 }
 
 }  // namespace houle

@@ -1,6 +1,13 @@
 // Where the waves break, for the renderer's foam (sea_surface.hpp surf_map, docs/rendering.md 3.7).
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <utility>
+#include <vector>
 
 #include "houle/sim/sea_surface.hpp"
 
@@ -10,6 +17,89 @@ namespace {
 // Foam lines a wall's toe out to toe_reach m from its face where the waves there reach
 // crash_amplitude m (all of a train's fields summed: incident, diffracted, reflected), less below.
 constexpr double toe_reach = 2.5, crash_amplitude = 0.25;
+
+/// The local wave vector (rad/m) at node n: the carrier's plus the gradient of B's phase,
+/// Im(conj(B) grad B) / |B|^2 with grad B by central differences (one-sided at the grid's edges). Where
+/// the model's carrier is not the wave's (the parabolic model's marched field, a wave carried past the
+/// rays' end) B's phase turns it.
+std::pair<double, double> wave_vector(const TrainField& f, const TrainGrid& g, std::size_t n) {
+  const std::size_t i = n % g.nx, j = n / g.nx;
+  const std::complex<double> b(f.b_re[n], f.b_im[n]);
+  const double b2 = std::norm(b);
+  const auto phase_slope = [&](std::size_t lo, std::size_t hi, double span) {
+    const std::complex<double> d = std::complex<double>(f.b_re[hi] - f.b_re[lo], f.b_im[hi] - f.b_im[lo]);
+    return b2 > 0.0 && span > 0.0 ? (std::conj(b) * d).imag() / (b2 * span) : 0.0;
+  };
+  const std::size_t w = i > 0 ? n - 1 : n, e = i + 1 < g.nx ? n + 1 : n;
+  const std::size_t s = j > 0 ? n - g.nx : n, north = j + 1 < g.ny ? n + g.nx : n;
+  const double gx = phase_slope(w, e, double(e - w) * double(g.cell));
+  const double gy = phase_slope(s, north, double((north - s) / g.nx) * double(g.cell));
+  return {double(f.kx[n]) + gx, double(f.ky[n]) + gy};
+}
+
+/// Foam carried behind the break line (docs/rendering.md 3.7): per node, the largest
+/// breaking(m) e^{-s/L} over the nodes m upstream of it, s the distance the waves travel from m to the
+/// node and L = foam_decay_wavelengths local wavelengths. A shortest-path search on
+/// G = -ln foam over the grid's eight neighbours, each step taken only along the waves' travel (within
+/// 25 degrees of it) and only into nodes the train reaches; it stops where foam falls below 1 %.
+std::vector<float> carried_foam(const TrainField& f, const TrainGrid& g) {
+  const std::size_t nodes = std::size_t(g.nx) * g.ny;
+  constexpr double infinite = std::numeric_limits<double>::infinity(), cutoff = 4.605170185988091;  // -ln 0.01
+  constexpr double cos_cone = 0.906307787;  // cos 25 deg: the neighbour nearest the travel, or two
+  std::vector<double> cost(nodes, infinite);
+  for (std::size_t n = 0; n < nodes; ++n) {
+    if (f.breaking[n] > 0.0f) cost[n] = f.breaking[n] < 1.0f ? -std::log(double(f.breaking[n])) : 0.0;
+  }
+  // Whether a node's foam could strengthen a neighbour's (inside the surf zone every neighbour already
+  // has foam as strong: most of the seeds).
+  const auto improves = [&](std::size_t n, double c) {
+    const std::int64_t i = std::int64_t(n % g.nx), j = std::int64_t(n / g.nx);
+    for (std::int64_t dj = -1; dj <= 1; ++dj) {
+      for (std::int64_t di = -1; di <= 1; ++di) {
+        if (i + di < 0 || j + dj < 0 || i + di >= std::int64_t(g.nx) || j + dj >= std::int64_t(g.ny)) continue;
+        if (cost[std::size_t((j + dj) * std::int64_t(g.nx) + i + di)] > c) return true;
+      }
+    }
+    return false;
+  };
+  using Entry = std::pair<double, std::uint32_t>;
+  std::vector<Entry> seeds;
+  for (std::size_t n = 0; n < nodes; ++n) {
+    if (cost[n] < infinite && improves(n, cost[n])) seeds.push_back({cost[n], std::uint32_t(n)});
+  }
+  if (seeds.empty()) return f.breaking;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open(std::greater<>(), std::move(seeds));  // ties by node: deterministic
+  const auto carries = [&](std::size_t n) { return f.b_re[n] != 0.0f || f.b_im[n] != 0.0f; };
+  while (!open.empty()) {
+    const auto [c, n] = open.top();
+    open.pop();
+    if (c > cost[n] || !carries(n) || !improves(n, c)) continue;
+    const std::int64_t i = std::int64_t(n % g.nx), j = std::int64_t(n / g.nx);
+    const auto [kx, ky] = wave_vector(f, g, n);
+    const double k = std::hypot(kx, ky);
+    if (!(k > 0.0)) continue;
+    const double ux = kx / k, uy = ky / k;
+    const double per_metre = k / (2.0 * 3.141592653589793 * foam_decay_wavelengths);
+    for (std::int64_t dj = -1; dj <= 1; ++dj) {
+      for (std::int64_t di = -1; di <= 1; ++di) {
+        if ((di == 0 && dj == 0) || i + di < 0 || j + dj < 0 || i + di >= std::int64_t(g.nx) || j + dj >= std::int64_t(g.ny)) continue;
+        const double len = std::hypot(double(di), double(dj));
+        if ((double(di) * ux + double(dj) * uy) < cos_cone * len) continue;
+        const std::size_t m = std::size_t((j + dj) * std::int64_t(g.nx) + i + di);
+        const double next = c + len * double(g.cell) * per_metre;
+        if (next < cost[m] && next <= cutoff && carries(m)) {
+          cost[m] = next;
+          open.push({next, std::uint32_t(m)});
+        }
+      }
+    }
+  }
+  std::vector<float> foam(f.breaking);
+  for (std::size_t n = 0; n < nodes; ++n) {
+    if (cost[n] <= cutoff) foam[n] = std::max(foam[n], float(std::exp(-cost[n])));
+  }
+  return foam;
+}
 
 double segment_distance(double px, double py, Point2 a, Point2 b) {
   const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
@@ -39,13 +129,16 @@ SurfMap SeaSurface::surf_map(const Scene& scene) const {
   for (std::size_t t = first; t < trains_.size(); ++t) {
     const TrainField& f = trains_[t];
     if (f.breaking.size() != nodes || grids_[t].nx != g.nx || grids_[t].ny != g.ny) continue;
+    const std::vector<float> foam = carried_foam(f, grids_[t]);
     for (std::size_t n = 0; n < nodes; ++n) {
       const float a = std::hypot(f.b_re[n], f.b_im[n]), k = std::hypot(f.kx[n], f.ky[n]);
       sum[n] += a;
-      if (f.breaking[n] > m.foam[n] && k > 0.0f) {
-        m.foam[n] = f.breaking[n];
-        m.dir_x[n] = f.kx[n] / k;
-        m.dir_y[n] = f.ky[n] / k;
+      if (foam[n] > m.foam[n] && k > 0.0f) {
+        const auto [wx, wy] = wave_vector(f, grids_[t], n);
+        const double w = std::hypot(wx, wy);
+        m.foam[n] = foam[n];
+        m.dir_x[n] = w > 0.0 ? float(wx / w) : 0.0f;
+        m.dir_y[n] = w > 0.0 ? float(wy / w) : 0.0f;
         m.amplitude[n] = a;
       }
     }

@@ -65,14 +65,15 @@ Rays camera_rays(std::mt19937& rng, std::size_t n, float cx, float cy, float h_l
 }
 
 struct Hits {
-  std::vector<float> t, x, y, z, gx, gy, level;
+  std::vector<float> t, x, y, z, gx, gy, level, variance;
   std::vector<MarchStatus> status;
   std::vector<std::uint32_t> evaluations;
   explicit Hits(std::size_t n)
-      : t(n, -1), x(n, -1), y(n, -1), z(n, -1), gx(n, -1), gy(n, -1), level(n, -1), status(n, MarchStatus(9)),
-        evaluations(n, 99) {}
+      : t(n, -1), x(n, -1), y(n, -1), z(n, -1), gx(n, -1), gy(n, -1), level(n, -1), variance(n, -1),
+        status(n, MarchStatus(9)), evaluations(n, 99) {}
   houle::MarchHits view() {
-    return {t.data(), x.data(), y.data(), z.data(), gx.data(), gy.data(), status.data(), level.data(), evaluations.data()};
+    return {t.data(),      x.data(),     y.data(),           z.data(),       gx.data(),
+            gy.data(),     status.data(), level.data(),      evaluations.data(), variance.data()};
   }
 };
 
@@ -410,7 +411,8 @@ TEST(March, EveryIsaMatchesScalarBitForBitIncludingTails) {
         for (std::size_t i = 0; i < n; ++i) {
           differ += ref.t[i] != got.t[i] || ref.x[i] != got.x[i] || ref.y[i] != got.y[i] || ref.z[i] != got.z[i] ||
                     ref.gx[i] != got.gx[i] || ref.gy[i] != got.gy[i] || ref.level[i] != got.level[i] ||
-                    ref.status[i] != got.status[i] || ref.evaluations[i] != got.evaluations[i];
+                    ref.status[i] != got.status[i] || ref.evaluations[i] != got.evaluations[i] ||
+                    ref.variance[i] != got.variance[i];
         }
         EXPECT_EQ(differ, 0u) << houle::isa_name(isa) << " n = " << n << " noise " << with_noise;
       }
@@ -481,6 +483,56 @@ TEST(March, NoiseEnvelopeBoundsTheNoiseAndShrinksAlongTheRay) {
       // The level the marcher uses is the capillary module's octave_level (to its log approximation).
       EXPECT_NEAR(level, houle::octave_level(cp, t, p.pixel_angle, std::fabs(dz)), 1e-4f);
     }
+  }
+}
+
+TEST(March, ReportsTheSlopeVarianceTheFillLeftOutAtTheHit) {
+  // A fill whose sampler leaves out a slope variance linear in x and y: bilinear interpolation and the
+  // morph towards the coarser level (itself bilinear) keep a linear field, so the hit reads it at its
+  // own point, on every level; misses read 0; every ISA the scalar bits.
+  auto f = houle::SurfaceFrame::create({});
+  ASSERT_TRUE(f.ok());
+  auto w = houle::make_gerstner_frame(coastal_waves(), 3.0);
+  ASSERT_TRUE(w.ok());
+  const auto variance = [](float x, float y) { return 0.02f + 1e-5f * x - 2e-5f * y; };
+  const auto sampler = [](void* c, const houle::SurfaceSamples& s) noexcept {
+    houle::gerstner_eval(*static_cast<const houle::GerstnerFrame*>(c), s.x, s.y, s.n, {s.height, s.grad_x, s.grad_y});
+    for (std::size_t i = 0; i < s.n; ++i) s.slope_variance[i] = 0.02f + 1e-5f * s.x[i] - 2e-5f * s.y[i];
+  };
+  f.value().begin_frame(5.0f, -4.0f);
+  f.value().fill(sampler, &w.value());
+  std::mt19937 rng(5);
+  const std::size_t n = 8 * 60 + 3;
+  const Rays r = camera_rays(rng, n, 5.0f, -4.0f, 2.0f, 30.0f, -60.0f, 3.0f);
+  Hits ref(n);
+  houle::march_rays(houle::Isa::scalar, f.value(), default_params(), r.view(), n, ref.view());
+  std::size_t hits = 0, far = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (ref.status[i] != MarchStatus::hit) {
+      EXPECT_EQ(ref.variance[i], 0.0f);
+      continue;
+    }
+    ++hits;
+    const float r_hit = std::max(std::fabs(ref.x[i] - 5.0f), std::fabs(ref.y[i] + 4.0f));
+    const houle::SurfaceLevel& last = f.value().level(f.value().config().levels - 1);
+    if (r_hit > (1.0f - f.value().config().blend_fraction) * last.reach - last.cell) {
+      // The last level's band morphs into the far plane, flat and smooth.
+      EXPECT_GE(ref.variance[i], 0.0f);
+      EXPECT_LE(ref.variance[i], std::max(variance(ref.x[i], ref.y[i]), 0.0f) + 1e-6f);
+      if (r_hit > last.reach) {
+        EXPECT_EQ(ref.variance[i], 0.0f);
+      }
+      continue;
+    }
+    far += r_hit > f.value().level(2).reach;
+    EXPECT_NEAR(ref.variance[i], variance(ref.x[i], ref.y[i]), 1e-6f) << ref.x[i] << ", " << ref.y[i];
+  }
+  EXPECT_GT(hits, n / 2);
+  EXPECT_GT(far, 20u);
+  for (houle::Isa isa : houle::supported_isas()) {
+    Hits got(n);
+    houle::march_rays(isa, f.value(), default_params(), r.view(), n, got.view());
+    for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(got.variance[i], ref.variance[i]) << houle::isa_name(isa) << " ray " << i;
   }
 }
 

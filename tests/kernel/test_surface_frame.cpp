@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "houle/surface/camera.hpp"
 #include "houle/surface/gerstner.hpp"
 #include "houle/runtime/isa.hpp"
 #include "houle/surface/surface_frame.hpp"
@@ -280,6 +281,52 @@ TEST(SurfaceFrame, FillEqualsFinishFrameAndIsDeterministic) {
   EXPECT_EQ(a.z_max(), b.z_max());
 }
 
+// Each run of nodes is told its level's cell and, after set_viewer (until the next begin_frame), the
+// camera's pixel angle, ground point and height over the far plane (the mean sea).
+TEST(SurfaceFrame, SamplersAreToldWhatTheNodesCanHold) {
+  SurfaceFrameConfig cfg;
+  cfg.levels = 3;
+  cfg.cells = 64;
+  cfg.far_height = 0.5f;
+  SurfaceFrame f = make_frame(cfg);
+  struct Seen {
+    std::vector<houle::NodeFootprint> runs;
+  } seen;
+  const auto sampler = [](void* c, const houle::SurfaceSamples& s) noexcept {
+    auto& r = *static_cast<Seen*>(c);
+    r.runs.push_back(s.footprint);
+    std::fill(s.height, s.height + s.n, 0.0f);
+    std::fill(s.grad_x, s.grad_x + s.n, 0.0f);
+    std::fill(s.grad_y, s.grad_y + s.n, 0.0f);
+    std::fill(s.slope_variance, s.slope_variance + s.n, 0.0f);
+  };
+  auto cam = houle::make_camera({{3.0f, 4.0f, 12.0f}, {3.0f, 40.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, 1.0f, 320, 180});
+  ASSERT_TRUE(cam.ok());
+  for (bool viewer : {true, false}) {
+    f.begin_frame(3.0f, 4.0f);
+    if (viewer) f.set_viewer(cam.value());
+    seen.runs.clear();
+    f.fill(sampler, &seen);
+    ASSERT_FALSE(seen.runs.empty());
+    std::vector<bool> level_seen(cfg.levels, false);
+    for (const houle::NodeFootprint& r : seen.runs) {
+      std::uint32_t l = 0;
+      while (l < cfg.levels && f.level(l).cell != r.cell) ++l;
+      ASSERT_LT(l, cfg.levels) << "a run with the cell of no level: " << r.cell;
+      level_seen[l] = true;
+      if (viewer) {
+        EXPECT_EQ(r.pixel_angle, cam.value().pixel_angle);
+        EXPECT_EQ(r.eye_x, 3.0f);
+        EXPECT_EQ(r.eye_y, 4.0f);
+        EXPECT_EQ(r.eye_height, 11.5f);
+      } else {
+        EXPECT_EQ(r.pixel_angle, 0.0f);  // begin_frame forgot the viewer
+      }
+    }
+    EXPECT_EQ(std::count(level_seen.begin(), level_seen.end(), true), int(cfg.levels));
+  }
+}
+
 // The fill, the morph and the tiles' bounds split into parts (as Renderer::fill_surface runs them on
 // its threads), parts run in any order, give the very frame of the one-piece fill: nodes, morph and
 // bounds.
@@ -292,8 +339,9 @@ TEST(SurfaceFrame, FillInPartsEqualsTheWholeFill) {
   SurfaceFrame whole = make_frame(cfg);
   whole.begin_frame(7.0f, -3.0f);
   houle::fill_gerstner(whole, waves.value());
-  const auto sampler = [](void* c, const float* x, const float* y, std::size_t n, float* h, float* gx, float* gy) noexcept {
-    houle::gerstner_eval(*static_cast<const houle::GerstnerFrame*>(c), x, y, n, {h, gx, gy});
+  const auto sampler = [](void* c, const houle::SurfaceSamples& s) noexcept {
+    houle::gerstner_eval(*static_cast<const houle::GerstnerFrame*>(c), s.x, s.y, s.n, {s.height, s.grad_x, s.grad_y});
+    std::fill(s.slope_variance, s.slope_variance + s.n, 0.0f);
   };
   for (unsigned parts : {2u, 3u, SurfaceFrame::max_fill_parts}) {
     SurfaceFrame split = make_frame(cfg);

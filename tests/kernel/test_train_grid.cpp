@@ -108,8 +108,8 @@ houle::TrainGridFrame frame_of(const std::vector<houle::TrainGrid>& grids, doubl
   return f;
 }
 
-// The kernel uses only +, -, *, selects, exact conversions and gathers (the one division is a
-// scalar's): every ISA must give the scalar bits, tolerance 0.
+// The kernel uses only +, -, *, selects, exact conversions, gathers and (filtered) the correctly
+// rounded simd::div and simd::sqrt: every ISA must give the scalar bits, tolerance 0, filtered or not.
 TEST(TrainGrid, EveryIsaMatchesScalarIncludingTails) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> coord(-30.0f, 60.0f);  // inside and outside the grids
@@ -128,16 +128,27 @@ TEST(TrainGrid, EveryIsaMatchesScalarIncludingTails) {
         slope_scale += 2.0f * 1.5f + 2.0f / t.grid.cell;  // |B| <= 1, |k| <= sqrt 2, |dB| <= 2 / cell
       }
       const houle::TrainGridFrame frame = frame_of(grids, 0.37 * trial);
+      // A viewer 1-6 m up among the points (or none) and cells of 0.5-3 m: weights from 0 to 1.
+      std::uniform_real_distribution<float> u(0.0f, 1.0f);
+      const houle::NodeFootprint footprint{0.5f + 2.5f * u(rng), trial % 3 == 0 ? 0.0f : 0.002f + 0.02f * u(rng),
+                                           coord(rng), coord(rng), (trial % 2 ? 1.0f : -1.0f) * (1.0f + 5.0f * u(rng))};
       for (std::size_t n : sizes) {
         std::vector<float> x(n), y(n);
         for (std::size_t i = 0; i < n; ++i) x[i] = coord(rng), y[i] = coord(rng);
-        Outputs ref(n), got(n);
+        Outputs ref(n), got(n), fref(n), fgot(n);
+        std::vector<float> vref(n), vgot(n);
         houle::train_grid_eval(houle::Isa::scalar, frame, x.data(), y.data(), n, ref.view());
         houle::train_grid_eval(isa, frame, x.data(), y.data(), n, got.view());
+        houle::train_grid_eval(houle::Isa::scalar, frame, x.data(), y.data(), n, footprint, fref.view(), vref.data());
+        houle::train_grid_eval(isa, frame, x.data(), y.data(), n, footprint, fgot.view(), vgot.data());
         for (std::size_t i = 0; i < n; ++i) {
           worst = std::max({worst, houle::test::ulps_of_scale(ref.h[i], got.h[i], height_scale),
                             houle::test::ulps_of_scale(ref.gx[i], got.gx[i], slope_scale),
-                            houle::test::ulps_of_scale(ref.gy[i], got.gy[i], slope_scale)});
+                            houle::test::ulps_of_scale(ref.gy[i], got.gy[i], slope_scale),
+                            houle::test::ulps_of_scale(fref.h[i], fgot.h[i], height_scale),
+                            houle::test::ulps_of_scale(fref.gx[i], fgot.gx[i], slope_scale),
+                            houle::test::ulps_of_scale(fref.gy[i], fgot.gy[i], slope_scale),
+                            houle::test::ulps_of_scale(vref[i], vgot[i], slope_scale * slope_scale)});
         }
       }
     }
@@ -242,6 +253,95 @@ TEST(TrainGrid, LeanSteepensTheFrontFace) {
   std::printf("max slope front/back: no lean %.4f/%.4f, lean 0.4 %.4f/%.4f\n", front0, back0, front1, back1);
   EXPECT_NEAR(front0, back0, 1e-3 * back0);
   EXPECT_GT(front1, 1.2f * back1);
+}
+
+// What a node can hold (houle/surface/node_footprint.hpp), against the footprint worked out by hand:
+// a viewer 10 m up at the origin with pixels of 0.01 rad sees the point (0, 100) at t = sqrt(10100) m,
+// so its footprint is t 0.01 = 1.005 m across the view (x) and t^2 0.01 / 10 = 101 m along it (y).
+// A wave is whole while its wavelength spans two footprints along its wave vector and gone at one;
+// without a viewer, whole from four cells and gone at two.
+TEST(TrainGrid, WavesFadeWhereTheFootprintCannotHoldThem) {
+  const houle::NodeFootprint viewer{0.0f, 0.01f, 0.0f, 0.0f, 10.0f};
+  const double across = 0.01 * std::sqrt(10100.0), along = 0.01 * 10100.0 / 10.0;
+  const auto weight = [&](const houle::NodeFootprint& f, double wavelength, double angle) {
+    const double k = 2.0 * 3.141592653589793 / wavelength;
+    return houle::node_wave_weight(f, 0.0f, 100.0f, float(k * std::cos(angle)), float(k * std::sin(angle)));
+  };
+  for (double below : {0.999, 0.9, 0.5, 0.1}) {
+    EXPECT_EQ(weight(viewer, 2.0 * across / below, 0.0), 1.0f);  // crests along the view: the width counts
+    EXPECT_EQ(weight(viewer, 2.0 * along / below, 1.5707963), 1.0f);  // crests across it: the length
+    EXPECT_EQ(weight(viewer, across * below, 0.0), 0.0f);
+    EXPECT_EQ(weight(viewer, along * below, 1.5707963), 0.0f);
+  }
+  // In between, falling monotonically with the wavelength; and a wave across the view outlasts one
+  // along it.
+  float last = 1.0f;
+  for (double r = 2.0; r >= 1.0; r -= 0.05) {
+    const float w = weight(viewer, r * across, 0.0);
+    EXPECT_LE(w, last);
+    last = w;
+  }
+  EXPECT_EQ(weight(viewer, 3.0 * across, 0.0), 1.0f);
+  EXPECT_EQ(weight(viewer, 3.0 * across, 1.5707963), 0.0f);
+  const houle::NodeFootprint grid{0.5f, 0.0f, 0.0f, 0.0f, 10.0f};
+  EXPECT_EQ(weight(grid, 2.001, 0.3), 1.0f);
+  EXPECT_GT(weight(grid, 1.5, 0.3), 0.0f);
+  EXPECT_LT(weight(grid, 1.5, 0.3), 1.0f);
+  EXPECT_EQ(weight(grid, 0.999, 0.3), 0.0f);
+  // A viewer at the height of the sea: |d_z| held at 1e-3 as in the marcher, nothing infinite.
+  const houle::NodeFootprint level{0.0f, 0.01f, 0.0f, 0.0f, 0.0f};
+  const double held = 0.01 * 100.0 / 1e-3;  // t theta / |d_z|, t = 100 m
+  EXPECT_EQ(weight(level, 0.99 * held, 1.5707963), 0.0f);
+  EXPECT_EQ(weight(level, 2.01 * held, 1.5707963), 1.0f);
+  EXPECT_EQ(weight(level, 2.01 * 0.01 * 100.0, 0.0), 1.0f);
+}
+
+// The filtered eval is the train times its weight, and the slope variance it loses is the measured
+// variance of the dropped slopes: for a sine train of amplitude a and wavenumber k, (k a)^2 / 2 along
+// k, (k a)^2 / 4 per axis, times 1 - w^2 (w^2 of it is still drawn).
+TEST(TrainGrid, AFadedTrainsSlopesGoIntoTheSlopeVariance) {
+  const double k = 2.0 * 3.141592653589793 / 3.0, angle = 0.4;  // 3 m waves
+  const float a = 0.1f;
+  const Train train = uniform_train(k, angle, a, 0.0f, 0.0f, 41, 41, 0.5f);
+  const std::vector<houle::TrainGrid> grids = {train.grid};
+  const houle::TrainGridFrame frame = frame_of(grids, 1.3);
+  // Points along one wavelength, on the grid and off it.
+  constexpr std::size_t n = 1000;
+  std::vector<float> x(n), y(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double s = 3.0 * (double(i) + 0.5) / double(n) + (i % 2 ? 0.0 : 30.0);
+    x[i] = float(s * std::cos(angle));
+    y[i] = float(s * std::sin(angle));
+  }
+  Outputs whole(n);
+  houle::train_grid_eval(frame, x.data(), y.data(), n, whole.view());
+  double measured = 0.0;
+  for (std::size_t i = 0; i < n; ++i) measured += 0.5 * (double(whole.gx[i]) * whole.gx[i] + double(whole.gy[i]) * whole.gy[i]);
+  measured /= double(n);
+  EXPECT_NEAR(measured, (k * a) * (k * a) / 4.0, 1e-3 * measured);
+  for (float cell : {0.5f, 1.0f, 1.4f, 2.0f}) {  // whole, fading, gone
+    const houle::NodeFootprint f{cell, 0.0f, 0.0f, 0.0f, 5.0f};
+    Outputs faded(n);
+    std::vector<float> variance(n);
+    houle::train_grid_eval(frame, x.data(), y.data(), n, f, faded.view(), variance.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      const float w = houle::node_wave_weight(f, x[i], y[i], train.grid.far_kx, train.grid.far_ky);
+      EXPECT_NEAR(faded.h[i], w * whole.h[i], 1e-6f) << cell;
+      EXPECT_NEAR(faded.gx[i], w * whole.gx[i], 1e-6f) << cell;
+      EXPECT_NEAR(faded.gy[i], w * whole.gy[i], 1e-6f) << cell;
+      EXPECT_NEAR(variance[i], (1.0 - double(w) * w) * measured, 1e-3 * measured) << cell;
+      if (w == 1.0f) {
+        EXPECT_EQ(faded.h[i], whole.h[i]);  // bit for bit where nothing fades
+        EXPECT_EQ(variance[i], 0.0f);
+      }
+    }
+    const float w0 = houle::node_wave_weight(f, 0.0f, 0.0f, train.grid.far_kx, train.grid.far_ky);
+    EXPECT_EQ(w0, cell == 0.5f ? 1.0f : cell == 2.0f ? 0.0f : w0) << cell;
+    if (cell == 1.0f || cell == 1.4f) {
+      EXPECT_GT(w0, 0.0f);
+      EXPECT_LT(w0, 1.0f);
+    }
+  }
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <span>
 #include <vector>
@@ -275,6 +276,61 @@ TEST(Picture, SurfMovesWithTheWavesWithoutFlicker) {
       }
     }
     EXPECT_EQ(isolated, 0u) << "t " << t0;
+  }
+}
+
+/// Mean absolute difference of vertically adjacent pixels' luminance over rows [y0, y1), over the
+/// rows' mean luminance: what a stripe pattern one or two pixels wide (moiré) adds to a smooth picture.
+double stripe_energy(const Framebuffer& fb, int y0, int y1) {
+  double diff = 0.0, sum = 0.0;
+  for (int y = y0; y < y1; ++y) {
+    for (int x = 0; x < fb.width; ++x) {
+      diff += std::fabs(double(luma(fb, x, y + 1)) - double(luma(fb, x, y)));
+      sum += double(luma(fb, x, y));
+    }
+  }
+  return diff / sum;
+}
+
+TEST(Picture, ShortTrainsFadeIntoRoughnessInsteadOfMoire) {
+  // A 1 s train (1.56 m waves) on deep water seen at 320 x 180 from 3 m and from 25 m up: far away the
+  // pixels' footprint spans several wavelengths, and point-sampled waves (and nodes more than half a
+  // wavelength apart) alias into bands across the whole sea. The train must fade into the glint's
+  // roughness there (docs/rendering.md 5.5): the far sea's stripe energy under 3 % (1.7 % and 1.6 %;
+  // before the fade 17 % and 23 %), while near the low camera, where the waves are drawn, it stays
+  // over 10 % (22 %, unchanged by the fade).
+  houle::Scene s;
+  s.domain = {0.0, 0.0, 400.0, 400.0};
+  s.floor.base.depth = 20.0;
+  houle::WaveTrain chop;
+  chop.direction_deg = 80.0;
+  chop.period = 1.0;
+  chop.amplitude = 0.04;
+  s.trains = {chop};
+  s.capillary.amplitude = 0.0;
+  s.sun = {230.0, 35.0};
+  constexpr std::uint32_t w = 320, h = 180;
+  for (double height : {3.0, 25.0}) {
+    s.camera = houle::ViewCamera{{200.0, 20.0, height}, {200.0, 120.0, 0.0}, 50.0, {}};
+    Animation a = make_animation(s, w, h);
+    Framebuffer fb(w, h);
+    a.render(1.0, fb);
+    const auto row = [&](double ahead) { return int(image_row(a.camera(), {200.0f, float(20.0 + ahead), 0.0f})); };
+    // The far sea: from where a pixel's footprint along the view, t^2 theta / height, spans a
+    // wavelength (30 m ahead of the low camera, 83 m of the high one) to 2 km.
+    const double wavelength = 9.81 / (2.0 * 3.141592653589793), theta = a.camera().pixel_angle;
+    const int far0 = std::max(row(2000.0), 0), far1 = row(std::sqrt(wavelength * height / theta - height * height));
+    ASSERT_GT(far1 - far0, 15) << height;
+    const double far = stripe_energy(fb, far0, far1);
+    std::printf("camera %.0f m: stripe energy of the far sea (rows %d-%d) %.3f\n", height, far0, far1, far);
+    EXPECT_LT(far, 0.03) << "camera " << height << " m";
+    if (height == 3.0) {
+      const int near0 = row(25.0), near1 = std::min(row(8.0), int(h) - 1);
+      ASSERT_GT(near1 - near0, 15);
+      const double near = stripe_energy(fb, near0, near1);
+      std::printf("camera %.0f m: stripe energy of the near sea (rows %d-%d) %.3f\n", height, near0, near1, near);
+      EXPECT_GT(near, 0.1);
+    }
   }
 }
 

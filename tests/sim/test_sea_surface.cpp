@@ -266,4 +266,61 @@ TEST(SeaSurface, BreakingMarksTheSurfZoneAndTheSurfMapFollows) {
   EXPECT_EQ(build(deep_sea()).surf_map(deep_sea()).nx, 0u);
 }
 
+TEST(SeaSurface, FoamIsCarriedBehindTheBreakLineAndDecays) {
+  // A 0.4 m swell straight at a 1:20 beach with a bar at y = 100 m: the waves break on the bar (0.5 m
+  // deep on its crest), cross a trough up to 4 m deep where they break no more, and break again near the
+  // shore. Foam must be carried shoreward from the bar and fade with the distance travelled: in the
+  // trough, along x = 50, a node s metres behind the last node where the waves broke (breaking = 1)
+  // and s0 behind the last where they began to (breaking > 0) has foam between e^{-s / L_min} and
+  // e^{-s0 / L_max} (L = foam_decay_wavelengths local wavelengths, their range over the trough), never
+  // rising shoreward until the waves break again; nowhere less than the breaking measure itself.
+  // Before the foam was carried, the trough had none.
+  houle::Scene scene = beach();
+  scene.domain.y_max = 160.0;
+  scene.trains[0].direction_deg = 90.0;
+  scene.floor.bars.push_back({{0.0, 100.0}, 0.0, 8.0, 2.0});
+  const houle::SeaSurface sea = build(scene);
+  const houle::TrainField& f = sea.trains()[0];
+  const houle::TrainGrid& g = sea.grids()[0];
+  const houle::SurfMap m = sea.surf_map(scene);
+  ASSERT_EQ(m.nx, g.nx);
+  for (std::size_t n = 0; n < f.breaking.size(); ++n) EXPECT_GE(m.foam[n], f.breaking[n]);
+  const std::size_t i = std::size_t(std::lround((50.0 - g.origin_x) / g.cell));
+  const auto node = [&](std::size_t j) { return j * g.nx + i; };
+  // Walk shoreward from the bar's crest to the first node where the waves break again.
+  std::size_t j = std::size_t(std::lround((100.0 - g.origin_y) / g.cell));
+  ASSERT_EQ(f.breaking[node(j)], 1.0f) << "the waves break on the bar";
+  std::size_t last_broken = j, last_breaking = j;
+  while (j + 1 < g.ny && f.breaking[node(j + 1)] > 0.0f) {
+    ++j;
+    if (f.breaking[node(j)] == 1.0f) last_broken = j;
+    last_breaking = j;
+  }
+  std::size_t end = j + 1;
+  while (end < g.ny && f.breaking[node(end)] == 0.0f) ++end;
+  ASSERT_GT(end - last_breaking, 20u) << "a trough of some metres where nothing breaks";
+  double l_min = 1e30, l_max = 0.0;
+  for (std::size_t t = last_broken; t < end; ++t) {
+    const double l = houle::foam_decay_wavelengths * 2.0 * 3.141592653589793 / std::hypot(f.kx[node(t)], f.ky[node(t)]);
+    l_min = std::min(l_min, l);
+    l_max = std::max(l_max, l);
+  }
+  float before = m.foam[node(last_breaking)];
+  std::size_t carried = 0;
+  for (std::size_t t = last_breaking + 1; t < end; ++t) {
+    const double s = double(t - last_broken) * g.cell, s0 = double(t - last_breaking) * g.cell;
+    const float foam = m.foam[node(t)];
+    EXPECT_LE(foam, before) << "y " << g.origin_y + double(t) * g.cell;
+    EXPECT_LE(foam, std::exp(-s0 / l_max) * 1.0001) << "y " << g.origin_y + double(t) * g.cell;
+    if (std::exp(-s / l_min) > 0.01) {
+      EXPECT_GE(foam, std::exp(-s / l_min) * 0.9999) << "y " << g.origin_y + double(t) * g.cell;
+    }
+    carried += foam > 0.1f;
+    before = foam;
+  }
+  std::printf("foam behind the bar: %zu nodes over 0.1 in a trough of %zu; L %.1f-%.1f m\n", carried,
+              end - last_breaking - 1, l_min, l_max);
+  EXPECT_GT(carried, 10u);
+}
+
 }  // namespace

@@ -199,7 +199,7 @@ bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && st
 
 /// Per-thread row buffers (SoA, `width` entries each), sized once by create().
 struct alignas(64) Scratch {
-  enum Array { dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr, count };
+  enum Array { dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, rough, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr, count };
   std::vector<float> memory;
   float* a[count] = {};
   std::vector<float> accumulated;  // 3 per pixel
@@ -441,10 +441,11 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     const LinearRgb reflected = trace_air(p, n, offset, r, t);
     const LinearRgb transmitted =
         kr < 1.0f ? trace_water(p, n_down, offset, tr, lit ? sea_illumination : sea_shade_illumination, t) : LinearRgb{};
-    // The sun's glint, widened by the slope variance of the octaves the LOD left out at this pixel.
+    // The sun's glint, widened by the slope variance of the octaves and trains the LOD left out at
+    // this pixel (docs/rendering.md 5.4, 5.5).
     float glint = 0.0f;
     const Vec3 v{-d[0], -d[1], -d[2]};
-    const float variance = noise != nullptr ? dropped(s.a[Scratch::level][i]) : 0.0f;
+    const float variance = (noise != nullptr ? dropped(s.a[Scratch::level][i]) : 0.0f) + s.a[Scratch::rough][i];
     const Vec3 half = normalized({v[0] + sun[0], v[1] + sun[1], v[2] + sun[2]});
     const float cos_h = dot(n, half);
     // Skip the lobe where it is below e^-30 of its peak (tan^2 / 2 sigma^2 > 30): most of the sea.
@@ -557,7 +558,7 @@ void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
   const MarchRays rays{a[Scratch::ox], a[Scratch::oy], a[Scratch::oz], a[Scratch::dx],
                        a[Scratch::dy], a[Scratch::dz], a[Scratch::t_max]};
   const MarchHits hits{a[Scratch::t],  a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::gx],
-                       a[Scratch::gy], s.status.data(), a[Scratch::level], nullptr};
+                       a[Scratch::gy], s.status.data(), a[Scratch::level], nullptr, a[Scratch::rough]};
   for (int k = 0; k < samples; ++k) {
     const auto t0 = Clock::now();
     camera_row_rays(camera, row, 0, w, offsets[k].x, offsets[k].y, a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]);

@@ -73,6 +73,7 @@ detail::MarchContext make_context(const SurfaceFrame& frame, const MarchParams& 
   c.height = v.height;
   c.grad_x = v.grad_x;
   c.grad_y = v.grad_y;
+  c.slope_variance = v.slope_variance;
   c.tile_min = v.tile_min;
   c.tile_max = v.tile_max;
   c.tile_slope_x = v.tile_slope_x;
@@ -134,7 +135,8 @@ void march_row(const detail::SurfaceTable& k, const SurfaceFrame& frame, const C
     const MarchRays rays{ox, oy, oz, dx, dy, dz, nullptr};
     const auto at = [i](auto* p) { return p != nullptr ? p + i : p; };
     const MarchHits h{at(hits.t),      at(hits.x),      at(hits.y),           at(hits.z),          at(hits.grad_x),
-                      at(hits.grad_y), at(hits.status), at(hits.noise_level), at(hits.evaluations)};
+                      at(hits.grad_y), at(hits.status), at(hits.noise_level), at(hits.evaluations),
+                      at(hits.slope_variance)};
     k.march_rays(c, rays, m, h);
   }
 }

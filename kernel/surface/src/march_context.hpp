@@ -15,6 +15,7 @@ struct MarchContext {
   const float* height = nullptr;
   const float* grad_x = nullptr;
   const float* grad_y = nullptr;
+  const float* slope_variance = nullptr;
   const float* tile_min = nullptr;
   const float* tile_max = nullptr;
   const float* tile_slope_x = nullptr;

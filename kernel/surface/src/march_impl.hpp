@@ -141,7 +141,7 @@ HOULE_MARCH_INLINE Located<A> locate(const MarchContext& c, simd::vfloat<A> px, 
   return s;
 }
 
-/// A field (height, grad_x or grad_y) of the grid at a located point; `far_value` beyond the levels.
+/// A field (height, grad_x, grad_y or slope_variance) of the grid at a located point; `far_value` beyond the levels.
 template <class A>
 HOULE_MARCH_INLINE simd::vfloat<A> grid_field(const MarchContext& c, const float* field, const Located<A>& s,
                                               float far_value) {
@@ -303,7 +303,7 @@ HOULE_MARCH_INLINE simd::vfloat<A> full_g(const MarchContext& c, const MarchRay<
 template <class A>
 struct MarchResult {
   using V = simd::vfloat<A>;
-  V t, x, y, z, grad_x, grad_y, level, status, evaluations;
+  V t, x, y, z, grad_x, grad_y, level, status, evaluations, slope_variance;
 };
 
 template <class A>
@@ -423,6 +423,7 @@ inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, si
   out.grad_x = zero;
   out.grad_y = zero;
   out.level = zero;
+  out.slope_variance = zero;
   if (simd::any(crossed)) {
     // The eq. 8 normal: gradients add. Grid gradients are interpolated (and morphed) like the heights.
     const Located<A> s = locate<A>(c, out.x, out.y);
@@ -437,6 +438,7 @@ inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, si
     }
     out.grad_x = simd::select(crossed, gx, zero);
     out.grad_y = simd::select(crossed, gy, zero);
+    out.slope_variance = simd::select(crossed, grid_field<A>(c, c.slope_variance, s, 0.0f), zero);
     evaluations = evaluations + simd::select(crossed, one, zero);
   }
   out.status = simd::select(crossed, simd::select(sigma > zero, one, V(2.0f)), simd::select(exhausted, V(3.0f), zero));
@@ -460,6 +462,7 @@ void march_rays(const MarchContext& c, const MarchRays& rays, std::size_t n, con
     if (hits.grad_x != nullptr) b.store(hits.grad_x, m.grad_x);
     if (hits.grad_y != nullptr) b.store(hits.grad_y, m.grad_y);
     if (hits.noise_level != nullptr) b.store(hits.noise_level, m.level);
+    if (hits.slope_variance != nullptr) b.store(hits.slope_variance, m.slope_variance);
     if (hits.status != nullptr) {
       b.store(hits.status, m.status, [](float s) { return static_cast<MarchStatus>(static_cast<std::uint8_t>(s)); });
     }

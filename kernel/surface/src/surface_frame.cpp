@@ -31,10 +31,10 @@ Layout layout(const SurfaceFrameConfig& c) {
   l.tiles = c.cells / c.tile_cells;
   l.tile_floats = round_up(std::size_t(c.levels) * l.tiles * l.tiles, align_floats);
   l.flag_floats = round_up((std::size_t(c.levels) * l.tiles * l.tiles + 3) / 4, align_floats);  // one byte per tile
-  // height, grad_x, grad_y; four tile arrays; the tiles' fill flags; the fill's x and y rows per part;
+  // height, grad_x, grad_y, slope variance; four tile arrays; the tiles' fill flags; the fill's x and y rows per part;
   // per part, the bounds pass's 4 column arrays, with a batch of slack after each (the column kernel
   // works in whole batches).
-  l.total_floats = 3 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats +
+  l.total_floats = 4 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats +
                    2 * SurfaceFrame::max_fill_parts * l.stride +
                    SurfaceFrame::max_fill_parts * 4 * (l.stride + align_floats);
   return l;
@@ -111,7 +111,8 @@ Expected<SurfaceFrame> SurfaceFrame::create(const SurfaceFrameConfig& config) {
   f.height_ = p;
   f.grad_x_ = p + grid;
   f.grad_y_ = p + 2 * grid;
-  f.tile_min_ = p + 3 * grid;
+  f.variance_ = p + 3 * grid;
+  f.tile_min_ = p + 4 * grid;
   f.tile_max_ = f.tile_min_ + l.tile_floats;
   f.tile_sx_ = f.tile_max_ + l.tile_floats;
   f.tile_sy_ = f.tile_sx_ + l.tile_floats;
@@ -133,6 +134,7 @@ void SurfaceFrame::begin_frame(float centre_x, float centre_y) noexcept {
   morphed_ = false;
   centre_x_ = centre_x;
   centre_y_ = centre_y;
+  viewer_ = {};
   const double n = config_.cells, tc = config_.tile_cells;
   for (std::uint32_t l = 0; l < config_.levels; ++l) {
     const double cell = std::ldexp(double(config_.finest_cell), int(l)), tile = tc * cell;
@@ -240,6 +242,10 @@ void SurfaceFrame::restrict_to_view(const Camera& cam) noexcept {
   }
 }
 
+void SurfaceFrame::set_viewer(const Camera& camera) noexcept {
+  viewer_ = {0.0f, camera.pixel_angle, camera.position[0], camera.position[1], camera.position[2] - config_.far_height};
+}
+
 bool SurfaceFrame::tile_filled(std::uint32_t l, std::uint32_t tile_x, std::uint32_t tile_y) const noexcept {
   HOULE_ASSERT(l < config_.levels && tile_x < tiles_ && tile_y < tiles_, "SurfaceFrame::tile_filled: a tile of the frame");
   return needed_[(std::size_t(l) * tiles_ + tile_y) * tiles_ + tile_x] != 0;
@@ -275,6 +281,7 @@ SurfaceFrameView SurfaceFrame::view() const noexcept {
   v.height = height_;
   v.grad_x = grad_x_;
   v.grad_y = grad_y_;
+  v.slope_variance = variance_;
   v.tile_min = tile_min_;
   v.tile_max = tile_max_;
   v.tile_slope_x = tile_sx_;
@@ -302,6 +309,8 @@ void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned par
   for (std::uint32_t l = 0; l < config_.levels; ++l) {
     const SurfaceLevel& s = levels_[l];
     const std::uint8_t* need = needed_ + std::size_t(l) * tiles_ * tiles_;
+    NodeFootprint footprint = viewer_;
+    footprint.cell = s.cell;
     for (std::uint32_t j = 0; j < nodes; ++j, ++row_index) {
       if (row_index % parts != part) continue;
       // The tile rows this node row belongs to (two on a tile boundary); runs of needed tiles.
@@ -320,7 +329,9 @@ void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned par
         // Node coordinates exactly as the marcher's grid coordinates invert them: origin + i * cell.
         for (std::size_t i = 0; i < count; ++i) row_x[i] = s.origin_x + float(i0 + i) * s.cell;
         std::fill(row_y, row_y + count, y);
-        sampler(context, row_x, row_y, count, heights(l) + o + i0, grad_x(l) + o + i0, grad_y(l) + o + i0);
+        SurfaceSamples run{row_x, row_y, count, footprint, heights(l) + o + i0, grad_x(l) + o + i0, grad_y(l) + o + i0,
+                           slope_variance(l) + o + i0};
+        sampler(context, run);
         ti = end;
       }
     }
@@ -402,10 +413,10 @@ void SurfaceFrame::morph_row(std::uint32_t l, std::uint32_t j) noexcept {
     px = std::llround((double(s.origin_x) - p.origin_x) / p.cell);
     py = std::llround((double(s.origin_y) - p.origin_y) / p.cell);
   }
-  float* fields[3] = {heights(l), grad_x(l), grad_y(l)};
-  const float* partners[3] = {last ? nullptr : heights(l + 1), last ? nullptr : grad_x(l + 1),
-                              last ? nullptr : grad_y(l + 1)};
-  const float far_values[3] = {config_.far_height, 0.0f, 0.0f};
+  float* fields[4] = {heights(l), grad_x(l), grad_y(l), slope_variance(l)};
+  const float* partners[4] = {last ? nullptr : heights(l + 1), last ? nullptr : grad_x(l + 1),
+                              last ? nullptr : grad_y(l + 1), last ? nullptr : slope_variance(l + 1)};
+  const float far_values[4] = {config_.far_height, 0.0f, 0.0f, 0.0f};
   const float dy = std::fabs(s.origin_y + float(j) * s.cell - centre_y_);
   const std::uint32_t upper = std::min(j / tc, tiles_ - 1), lower = j % tc == 0 && j > 0 ? j / tc - 1 : upper;
   // On a row inside the band's inner edge, the nodes more than a cell inside it in x keep their
@@ -434,7 +445,7 @@ void SurfaceFrame::morph_row(std::uint32_t l, std::uint32_t j) noexcept {
     x = x < 1.0f ? x : 1.0f;
     const float w = x * x * (3.0f - 2.0f * x);
     const std::size_t k = j * stride_ + i;
-    for (int f = 0; f < 3; ++f) {
+    for (int f = 0; f < 4; ++f) {
       float p = far_values[f];
       if (!last) {
         // The partner's bilinear value at fractions 0 or 1/2, horizontal first as in the marcher.
@@ -574,14 +585,14 @@ struct GerstnerFill {
   bool dispatched;
 };
 
-void gerstner_sampler(void* context, const float* x, const float* y, std::size_t n, float* h, float* gx,
-                      float* gy) noexcept {
+void gerstner_sampler(void* context, const SurfaceSamples& s) noexcept {
   const auto& c = *static_cast<const GerstnerFill*>(context);
   if (c.dispatched) {
-    gerstner_eval(*c.waves, x, y, n, {h, gx, gy}, c.newton_steps);
+    gerstner_eval(*c.waves, s.x, s.y, s.n, {s.height, s.grad_x, s.grad_y}, c.newton_steps);
   } else {
-    gerstner_eval(c.isa, *c.waves, x, y, n, {h, gx, gy}, c.newton_steps);
+    gerstner_eval(c.isa, *c.waves, s.x, s.y, s.n, {s.height, s.grad_x, s.grad_y}, c.newton_steps);
   }
+  std::fill(s.slope_variance, s.slope_variance + s.n, 0.0f);  // unfiltered
 }
 
 }  // namespace

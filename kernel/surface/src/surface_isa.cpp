@@ -12,7 +12,8 @@ namespace houle::detail {
 namespace {
 template <class A>
 constexpr SurfaceTable make_surface_table() {
-  return {&gerstner_eval<A>, &capillary_eval<A>, &march_rays<A>, &surface_column_stats<A>, &train_grid_eval<A>};
+  return {&gerstner_eval<A>, &capillary_eval<A>, &march_rays<A>, &surface_column_stats<A>, &train_grid_eval<A>,
+          &train_grid_eval_filtered<A>};
 }
 }  // namespace
 }  // namespace houle::detail

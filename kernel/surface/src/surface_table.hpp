@@ -17,6 +17,8 @@ struct SurfaceTable {
   void (*march_rays)(const MarchContext&, const MarchRays&, std::size_t, const MarchHits&) noexcept;
   void (*surface_column_stats)(const ColumnStatsJob&) noexcept;
   void (*train_grid_eval)(const TrainGridFrame&, const float*, const float*, std::size_t, GerstnerOutput) noexcept;
+  void (*train_grid_eval_filtered)(const TrainGridFrame&, const float*, const float*, std::size_t, const NodeFootprint&,
+                                   GerstnerOutput, float*) noexcept;
 };
 
 }  // namespace houle::detail

@@ -62,4 +62,33 @@ void train_grid_eval(Isa isa, const TrainGridFrame& frame, const float* x, const
   simd::table_for<detail::SurfaceTable>(isa).train_grid_eval(frame, x, y, n, out);
 }
 
+namespace {
+void check_filtered(const TrainGridFrame& frame, const float* x, const float* y, std::size_t n, const NodeFootprint& footprint,
+                    GerstnerOutput out, float* slope_variance) noexcept {
+  check_eval(frame, x, y, n, out);
+  HOULE_ASSERT(n == 0 || slope_variance != nullptr, "train_grid_eval: n floats in slope_variance");
+  HOULE_ASSERT(footprint.cell >= 0.0f && footprint.pixel_angle >= 0.0f && std::isfinite(footprint.cell) &&
+                   std::isfinite(footprint.pixel_angle) && std::isfinite(footprint.eye_x) && std::isfinite(footprint.eye_y) &&
+                   std::isfinite(footprint.eye_height),
+               "train_grid_eval: a finite footprint, cell and pixel angle >= 0");
+}
+}  // namespace
+
+void train_grid_eval(const TrainGridFrame& frame, const float* x, const float* y, std::size_t n, const NodeFootprint& footprint,
+                     GerstnerOutput out, float* slope_variance) noexcept {
+  check_filtered(frame, x, y, n, footprint, out, slope_variance);
+  simd::active_table<detail::SurfaceTable>().train_grid_eval_filtered(frame, x, y, n, footprint, out, slope_variance);
+}
+
+void train_grid_eval(Isa isa, const TrainGridFrame& frame, const float* x, const float* y, std::size_t n,
+                     const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance) noexcept {
+  check_filtered(frame, x, y, n, footprint, out, slope_variance);
+  simd::table_for<detail::SurfaceTable>(isa).train_grid_eval_filtered(frame, x, y, n, footprint, out, slope_variance);
+}
+
+float node_wave_weight(const NodeFootprint& footprint, float x, float y, float kx, float ky) noexcept {
+  const detail::FootprintLanes<simd::scalar> l = detail::footprint_lanes<simd::scalar>(footprint, x, y);
+  return detail::footprint_weight<simd::scalar>(l, kx, ky);
+}
+
 }  // namespace houle

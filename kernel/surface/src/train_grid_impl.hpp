@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "houle/surface/node_footprint.hpp"
 #include "houle/surface/train_grid.hpp"
 #include "houle/simd/gather.hpp"
 #include "height_field_impl.hpp"
+#include "houle/simd/batch_loop.hpp"
 #include "houle/simd/simd.hpp"
 
 namespace houle::detail {
@@ -67,12 +69,65 @@ inline TrainGridLanes<A> train_grid_lanes(const TrainGrid& g, simd::vfloat<A> x,
   return r;
 }
 
+/// The per-point part of node_wave_weight (houle/surface/node_footprint.hpp): the squared pixel
+/// footprint across the view and its stretch along it, per unit of (k . e)^2 (e the point's offset from
+/// the eye's ground point), and the squared grid limit.
 template <class A>
-inline HeightFieldPoint<A> train_grid_point(const TrainGridFrame& f, simd::vfloat<A> x, simd::vfloat<A> y) {
+struct FootprintLanes {
+  simd::vfloat<A> ex, ey, across2, stretch, grid2;
+};
+
+template <class A>
+inline FootprintLanes<A> footprint_lanes(const NodeFootprint& f, simd::vfloat<A> x, simd::vfloat<A> y) {
+  using V = simd::vfloat<A>;
+  FootprintLanes<A> l;
+  l.ex = x - f.eye_x;
+  l.ey = y - f.eye_y;
+  const V r2 = l.ex * l.ex + l.ey * l.ey, h2(f.eye_height * f.eye_height), t2 = r2 + h2;
+  const V theta2(f.pixel_angle * f.pixel_angle);
+  // The footprint is t theta across the view and t theta / |d_z| along it, with |d_z| = |eye height| / t
+  // held at 1e-3 as the marcher holds it (docs/rendering.md 5.2). Along - across, squared, over r^2:
+  // theta^2 t^2 / h^2, or with |d_z| held, theta^2 t^2 (1e6 - 1) / r^2 (r > 0 there).
+  const auto steep = h2 >= t2 * 1e-6f;
+  const V den = simd::select(steep, h2, r2);
+  l.across2 = theta2 * t2;
+  l.stretch = simd::div(l.across2 * simd::select(steep, V(1.0f), V(1e6f - 1.0f)), simd::select(den > 1e-30f, den, V(1e-30f)));
+  l.grid2 = V(4.0f * f.cell * f.cell);
+  return l;
+}
+
+/// node_wave_weight per lane: 1 while the phase across the footprint (along k) is at most pi and that
+/// across two cells at most pi, a smoothstep to 0 at 2 pi.
+template <class A>
+inline simd::vfloat<A> footprint_weight(const FootprintLanes<A>& l, simd::vfloat<A> kx, simd::vfloat<A> ky) {
+  using V = simd::vfloat<A>;
+  const V k2 = kx * kx + ky * ky, ke = kx * l.ex + ky * l.ey;
+  const V pixel = l.across2 * k2 + l.stretch * (ke * ke), grid = l.grid2 * k2;
+  const V p = simd::sqrt(simd::select(pixel < grid, grid, pixel));
+  V u = V(2.0f) - p * 0.318309886f;  // 1 / pi
+  u = simd::select(u > 0.0f, u, V(0.0f));
+  u = simd::select(u < 1.0f, u, V(1.0f));
+  return u * u * (V(3.0f) - 2.0f * u);
+}
+
+/// The summed trains at the points; with a footprint (Filtered), each train weighted by
+/// footprint_weight and the slope variance it loses, per axis, added to `variance`: a train of
+/// amplitude |B| and wavenumber k has slope variance (k |B|)^2 / 2 along k, (k |B|)^2 / 4 per axis of
+/// the isotropic roughness the glint takes (docs/rendering.md 5.5).
+template <class A, bool Filtered>
+inline HeightFieldPoint<A> train_grid_point(const TrainGridFrame& f, simd::vfloat<A> x, simd::vfloat<A> y,
+                                            const FootprintLanes<A>* footprint, simd::vfloat<A>* variance) {
   using V = simd::vfloat<A>;
   HeightFieldPoint<A> p{V(0.0f), V(0.0f), V(0.0f)};
   for (std::uint32_t t = 0; t < f.count; ++t) {
     const TrainGridLanes<A> l = train_grid_lanes<A>(f.trains[t], x, y);
+    V weight(1.0f);
+    if constexpr (Filtered) {
+      weight = footprint_weight<A>(*footprint, l.kx, l.ky);
+      const V b2 = l.b_re * l.b_re + l.b_im * l.b_im, k2 = l.kx * l.kx + l.ky * l.ky;
+      *variance = *variance + (V(1.0f) - weight * weight) * (b2 * k2 * 0.25f);
+      if (!simd::any(weight > 0.0f)) continue;  // faded everywhere here: nothing to add
+    }
     const V theta = l.phi - simd::select(l.inside, V(f.time_phase[t]), V(f.far_phase[t]));
     V s, c;
     simd::sincos(theta, s, c);
@@ -81,14 +136,24 @@ inline HeightFieldPoint<A> train_grid_point(const TrainGridFrame& f, simd::vfloa
     const V delta = l.fold * w_re + l.lean * w_im;
     V sd, cd;
     simd::sincos(delta, sd, cd);
-    p.height = p.height + (w_im * cd - w_re * sd);
     const V slope = w_im * sd + w_re * cd;  // -d h / d delta
     const auto derivative = [&](V db_re, V db_im, V k) {
       const V dw_re = (db_re * c - db_im * s) - k * w_im, dw_im = (db_re * s + db_im * c) + k * w_re;
       return (dw_im * cd - dw_re * sd) - slope * (l.fold * dw_re + l.lean * dw_im);
     };
-    p.grad_x = p.grad_x + derivative(l.b_re_x, l.b_im_x, l.kx);
-    p.grad_y = p.grad_y + derivative(l.b_re_y, l.b_im_y, l.ky);
+    const V h = w_im * cd - w_re * sd;
+    const V gx = derivative(l.b_re_x, l.b_im_x, l.kx), gy = derivative(l.b_re_y, l.b_im_y, l.ky);
+    if constexpr (Filtered) {
+      // Faded lanes keep their sums as they are (as when the whole batch skipped the train above).
+      const auto live = weight > 0.0f;
+      p.height = simd::select(live, p.height + weight * h, p.height);
+      p.grad_x = simd::select(live, p.grad_x + weight * gx, p.grad_x);
+      p.grad_y = simd::select(live, p.grad_y + weight * gy, p.grad_y);
+    } else {
+      p.height = p.height + h;
+      p.grad_x = p.grad_x + gx;
+      p.grad_y = p.grad_y + gy;
+    }
   }
   return p;
 }
@@ -96,7 +161,24 @@ inline HeightFieldPoint<A> train_grid_point(const TrainGridFrame& f, simd::vfloa
 template <class A>
 void train_grid_eval(const TrainGridFrame& f, const float* x, const float* y, std::size_t n,
                      GerstnerOutput out) noexcept {
-  eval_height_field<A>(x, y, n, out, [&](simd::vfloat<A> px, simd::vfloat<A> py) { return train_grid_point<A>(f, px, py); });
+  eval_height_field<A>(x, y, n, out, [&](simd::vfloat<A> px, simd::vfloat<A> py) {
+    return train_grid_point<A, false>(f, px, py, nullptr, nullptr);
+  });
+}
+
+template <class A>
+void train_grid_eval_filtered(const TrainGridFrame& f, const float* x, const float* y, std::size_t n,
+                              const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance) noexcept {
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    const simd::vfloat<A> px = b.load(x), py = b.load(y);
+    const FootprintLanes<A> lanes = footprint_lanes<A>(footprint, px, py);
+    simd::vfloat<A> variance(0.0f);
+    const HeightFieldPoint<A> p = train_grid_point<A, true>(f, px, py, &lanes, &variance);
+    b.store(out.height, p.height);
+    b.store(out.grad_x, p.grad_x);
+    b.store(out.grad_y, p.grad_y);
+    b.store(slope_variance, variance);
+  });
 }
 
 }  // namespace houle::detail

@@ -33,6 +33,10 @@ namespace houle {
 
 class Bathymetry;
 
+/// Foam left behind the break line fades by e over this many local wavelengths travelled
+/// (docs/rendering.md 3.7).
+inline constexpr double foam_decay_wavelengths = 2.0;
+
 /// One train's static fields: the arrays behind its TrainGrid (empty for analytic trains).
 struct TrainField {
   double omega = 0.0;  ///< rad/s
@@ -93,16 +97,18 @@ class SeaSurface {
   void set_time(double time_s) noexcept;
   /// Height (m, above still water) and gradient at n points; no allocation.
   void eval(const float* x, const float* y, std::size_t n, float* height, float* grad_x, float* grad_y) const noexcept;
-  /// For SurfaceFrame::fill: `context` is a const SeaSurface*.
-  static void sample(void* context, const float* x, const float* y, std::size_t n, float* height, float* grad_x,
-                     float* grad_y) noexcept;
+  /// For SurfaceFrame::fill: `context` is a const SeaSurface*. Unlike eval(), each train fades out
+  /// where the run's footprint cannot resolve it, its slopes going into the run's slope variance.
+  static void sample(void* context, const SurfaceSamples& samples) noexcept;
 
   /// Train `train` of the scene at (x, y) at the time set last.
   TrainProbe probe(std::size_t train, float x, float y) const noexcept;
 
   /// Where the waves break, for the renderer's foam (docs/rendering.md 3.7): the traced trains'
-  /// breaking measure, the strongest at each node with its direction and amplitude, and foam at the toes
-  /// of the scene's walls where waves reach them. Empty (nx = ny = 0) when nothing breaks.
+  /// breaking measure carried shoreward with the waves and decaying behind the break line (over
+  /// foam_decay_wavelengths local wavelengths), the strongest at each node with its direction and
+  /// amplitude, and foam at the toes of the scene's walls where waves reach them. Empty (nx = ny = 0)
+  /// when nothing breaks.
   SurfMap surf_map(const Scene& scene) const;
 
   /// The scene's trains in order (each with its reflected waves).

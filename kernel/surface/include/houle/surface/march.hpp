@@ -11,7 +11,8 @@
 //      pass a crossing; only delta can, over features thinner than delta;
 //   3. refine the bracket with a fixed number of Illinois (regula falsi) iterations;
 //   4. report t, the hit point and the surface gradient there (bilinear grid gradient, morphed like the
-//      heights, plus the noise gradient): the eq. 8 normal is (-grad_x, -grad_y, 1) normalised.
+//      heights, plus the noise gradient): the eq. 8 normal is (-grad_x, -grad_y, 1) normalised; and the
+//      slope variance the grid left out there (trains too short for the footprint, docs/rendering.md 5.5).
 // A ray that starts below the surface (f < 0) looks for the crossing from below the same way.
 // Noise is evaluated only inside its envelope: above |f_grid| > noise bound the ray marches against the
 // grid alone (docs/design.md 10: coarse march inside an envelope).
@@ -79,6 +80,9 @@ struct MarchHits {
   MarchStatus* status = nullptr;
   float* noise_level = nullptr;         ///< optional: capillary level used at the hit (for BRDF compensation)
   std::uint32_t* evaluations = nullptr;  ///< optional: surface evaluations (march + refine + normal)
+  /// optional: the slope variance the frame's fill left out at the hit (SurfaceFrame::slope_variance,
+  /// interpolated like the heights; 0 for a miss), for the glint's roughness
+  float* slope_variance = nullptr;
 };
 
 /// Marches n rays against `frame` (filled and finished) with the dispatched ISA.

@@ -40,6 +40,7 @@
 #include "houle/runtime/expected.hpp"
 #include "houle/surface/gerstner.hpp"
 #include "houle/runtime/isa.hpp"
+#include "houle/surface/node_footprint.hpp"
 
 namespace houle {
 
@@ -78,6 +79,7 @@ struct SurfaceFrameView {
   const float* height = nullptr;
   const float* grad_x = nullptr;
   const float* grad_y = nullptr;
+  const float* slope_variance = nullptr;  ///< per node, the roughness the fill left out (SurfaceSamples)
   const float* tile_min = nullptr;
   const float* tile_max = nullptr;
   const float* tile_slope_x = nullptr;
@@ -86,10 +88,23 @@ struct SurfaceFrameView {
   TileBounds global;  ///< whole frame, grid only (no noise), far plane included
 };
 
-/// Evaluates height and gradient (dh/dx, dh/dy) at n points: the generic way to fill a frame
-/// (analytic trains, traced wave rays, tests). Must not allocate or fail; arrays need no alignment.
-using SurfaceSampler = void (*)(void* context, const float* x, const float* y, std::size_t n, float* height,
-                                float* grad_x, float* grad_y) noexcept;
+/// A run of n nodes of one level to evaluate, and what they can hold (NodeFootprint).
+struct SurfaceSamples {
+  const float* x = nullptr;
+  const float* y = nullptr;
+  std::size_t n = 0;
+  NodeFootprint footprint{};
+  float* height = nullptr;
+  float* grad_x = nullptr;  ///< dh/dx
+  float* grad_y = nullptr;  ///< dh/dy
+  /// The slope variance per axis of the detail the sampler left out for the footprint (0 when it
+  /// filters nothing): the glint's roughness (docs/rendering.md 5.5).
+  float* slope_variance = nullptr;
+};
+
+/// Evaluates height and gradient at a run of nodes: the generic way to fill a frame (analytic trains,
+/// traced wave rays, tests). Must not allocate or fail; arrays need no alignment.
+using SurfaceSampler = void (*)(void* context, const SurfaceSamples& samples) noexcept;
 
 class SurfaceFrame {
  public:
@@ -115,6 +130,10 @@ class SurfaceFrame {
   /// frame is then valid for those rays only: rays from elsewhere or leaving the wedge read stale
   /// heights (and conservative bounds, so nothing breaks). Does nothing when the frustum holds the vertical.
   void restrict_to_view(const Camera& camera) noexcept;
+  /// Optional, after begin_frame: the fill's samplers are told the footprint of `camera`'s pixels at
+  /// each node (NodeFootprint), so that they leave out what those pixels cannot resolve. Without it
+  /// only the node spacing limits them.
+  void set_viewer(const Camera& camera) noexcept;
   /// Whether the current fill covers tile (tile_x, tile_y) of level l.
   bool tile_filled(std::uint32_t l, std::uint32_t tile_x, std::uint32_t tile_y) const noexcept;
   const SurfaceLevel& level(std::uint32_t l) const noexcept {
@@ -131,6 +150,10 @@ class SurfaceFrame {
   const float* heights(std::uint32_t l) const noexcept { return height_ + node_offset(l); }
   const float* grad_x(std::uint32_t l) const noexcept { return grad_x_ + node_offset(l); }
   const float* grad_y(std::uint32_t l) const noexcept { return grad_y_ + node_offset(l); }
+  /// Level l's per-node slope variance left out of the heights (SurfaceSamples::slope_variance); zero
+  /// unless a sampler writes it.
+  float* slope_variance(std::uint32_t l) noexcept { return variance_ + node_offset(l); }
+  const float* slope_variance(std::uint32_t l) const noexcept { return variance_ + node_offset(l); }
 
   /// Evaluates every node to be filled with `sampler` (runs of at most cells + 1 points along a row),
   /// then finish_frame().
@@ -190,6 +213,7 @@ class SurfaceFrame {
   float* height_ = nullptr;
   float* grad_x_ = nullptr;
   float* grad_y_ = nullptr;
+  float* variance_ = nullptr;
   float* tile_min_ = nullptr;
   float* tile_max_ = nullptr;
   float* tile_sx_ = nullptr;
@@ -200,6 +224,7 @@ class SurfaceFrame {
   float* scratch_ = nullptr;  ///< bounds pass: per part, column statistics
   std::array<SurfaceLevel, max_levels> levels_{};
   float centre_x_ = 0.0f, centre_y_ = 0.0f;
+  NodeFootprint viewer_{};  ///< the fill's footprint but for the cell: no viewer until set_viewer
   TileBounds global_{};
   float noise_height_ = 0.0f, noise_slope_ = 0.0f;
   bool morphed_ = false;  ///< the band nodes hold their morphed values (finish once per fill)

@@ -24,6 +24,7 @@
 #include <cstdint>
 
 #include "houle/surface/gerstner.hpp"
+#include "houle/surface/node_footprint.hpp"
 #include "houle/runtime/isa.hpp"
 
 namespace houle {
@@ -70,5 +71,13 @@ void train_grid_eval(const TrainGridFrame& frame, const float* x, const float* y
 /// The same on a given ISA (it must be supported): for tests and benchmarks.
 void train_grid_eval(Isa isa, const TrainGridFrame& frame, const float* x, const float* y, std::size_t n,
                      GerstnerOutput out) noexcept;
+
+/// The same, each train weighted by node_wave_weight(footprint, point, its local wave vector), so that
+/// nodes hold no wave they cannot sample (docs/rendering.md 5.5); slope_variance[i] gets the slope
+/// variance per axis the weights removed there (n floats).
+void train_grid_eval(const TrainGridFrame& frame, const float* x, const float* y, std::size_t n,
+                     const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance) noexcept;
+void train_grid_eval(Isa isa, const TrainGridFrame& frame, const float* x, const float* y, std::size_t n,
+                     const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance) noexcept;
 
 }  // namespace houle
