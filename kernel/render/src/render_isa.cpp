@@ -3,12 +3,14 @@
 #include "houle/simd/dispatch.hpp"
 #include "optics_impl.hpp"
 #include "render_table.hpp"
+#include "sky_impl.hpp"
 
 namespace houle::detail {
 namespace {
 template <class A>
 constexpr RenderTable make_render_table() {
-  return {&fresnel_batch<A>, &reflect_refract_batch<A>};
+  return {&fresnel_batch<A>, &reflect_refract_batch<A>, &sea_normals_batch<A>, &air_directions_batch<A>,
+          &sky_lookup_batch<A>};
 }
 }  // namespace
 }  // namespace houle::detail

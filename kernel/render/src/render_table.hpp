@@ -9,6 +9,10 @@ namespace houle::detail {
 struct RenderTable {
   void (*fresnel_batch)(const float*, float, float*, std::size_t) noexcept;
   void (*reflect_refract_batch)(const ReflectRefractInput&, std::size_t, float, float, ReflectRefractOutput) noexcept;
+  void (*sea_normals_batch)(const SeaNormalsInput&, std::size_t, SeaNormalsOutput) noexcept;
+  void (*air_directions_batch)(const AirDirectionsInput&, std::size_t, float, AirDirectionsOutput) noexcept;
+  void (*sky_lookup_batch)(const float* texels, const float*, const float*, const float*, std::size_t, float*, float*,
+                           float*) noexcept;
 };
 
 }  // namespace houle::detail

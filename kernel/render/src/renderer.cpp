@@ -199,7 +199,10 @@ bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && st
 
 /// Per-thread row buffers (SoA, `width` entries each), sized once by create().
 struct alignas(64) Scratch {
-  enum Array { dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr, count };
+  enum Array {
+    dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, side, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr,
+    ax, ay, az, sky_r, sky_g, sky_b, count
+  };
   std::vector<float> memory;
   float* a[count] = {};
   std::vector<float> accumulated;  // 3 per pixel
@@ -275,13 +278,17 @@ struct Renderer::Impl {
   void shade_sample(Scratch& s) noexcept;
   void add_aovs(const Scratch& s, std::uint32_t row, int sample) const noexcept;
   LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
-  LinearRgb sky_radiance(const Vec3& d) const noexcept { return sky.lookup(d) * sky_scale; }
+  /// The sky's radiance along pixel i's direction in air (shade_sample's air_directions).
+  LinearRgb sky_radiance(const Scratch& s, std::size_t i) const noexcept {
+    return LinearRgb{s.a[Scratch::sky_r][i], s.a[Scratch::sky_g][i], s.a[Scratch::sky_b][i]} * sky_scale;
+  }
   // `travelled`: m from the camera to where the ray starts (0 for primary rays): with the hit's t it
   // gives the pixel's footprint there.
   LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept;
   LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept;
   LinearRgb through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept;
-  LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float travelled) const noexcept;
+  LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float travelled,
+                      LinearRgb sky_along_d) const noexcept;
   LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float illumination,
                         float travelled) const noexcept;
   bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
@@ -349,14 +356,15 @@ LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float 
           object.b * k[2] * ks[2] + sea.b * (1.0f - k[2])};
 }
 
-/// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky.
+/// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky
+/// (sky_along_d, looked up a row at a time).
 LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
-                                     float travelled) const noexcept {
+                                     float travelled, LinearRgb sky_along_d) const noexcept {
   if (quality.reflect_objects) {
     const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
     if (h.kind != HitKind::none) return lit_in_air(h, along(p, d, h.t), d, travelled);
   }
-  return sky_radiance(d);
+  return sky_along_d;
 }
 
 /// Radiance arriving at p from direction d through water: eq. 12 on the floor or an object within
@@ -409,7 +417,7 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     const SurfaceHit& h = s.object[i];
     if (h.kind == HitKind::none) {
       ++c.sky;
-      return camera_under ? sea_lit : sky_radiance(d);
+      return camera_under ? sea_lit : sky_radiance(s, i);
     }
     ++c.object;
     const Vec3 p = along(camera.position, d, h.t);
@@ -421,24 +429,15 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
   const Vec3 p{s.a[Scratch::hx][i], s.a[Scratch::hy][i], s.a[Scratch::hz][i]};
   const Vec3 n{s.a[Scratch::nx][i], s.a[Scratch::ny][i], s.a[Scratch::nz][i]};
   const float kr = s.a[Scratch::kr][i];
-  Vec3 r{s.a[Scratch::rx][i], s.a[Scratch::ry][i], s.a[Scratch::rz][i]};
-  Vec3 tr{s.a[Scratch::tx][i], s.a[Scratch::ty][i], s.a[Scratch::tz][i]};
+  // The ray that leaves into air, kept above the horizon (shade_sample).
+  const Vec3 air{s.a[Scratch::ax][i], s.a[Scratch::ay][i], s.a[Scratch::az][i]};
   const float offset = 1e-3f + 1e-4f * t;
   const Vec3 n_down{-n[0], -n[1], -n[2]};
-  // Rays that must leave upwards are kept above the horizon: they would meet the sea again, which
-  // secondary rays do not trace (renderer.hpp).
-  const auto lift = [](Vec3& v) {
-    if (v[2] >= min_reflected_dz) return;
-    const float h2 = v[0] * v[0] + v[1] * v[1];
-    const float k = h2 > 0.0f ? std::sqrt((1.0f - min_reflected_dz * min_reflected_dz) / h2) : 0.0f;
-    v = {v[0] * k, v[1] * k, h2 > 0.0f ? min_reflected_dz : 1.0f};
-  };
-
   if (status == MarchStatus::hit) {
-    lift(r);
+    const Vec3 tr{s.a[Scratch::tx][i], s.a[Scratch::ty][i], s.a[Scratch::tz][i]};
     // In an object's shadow the sea loses the glint and the sun's share of its own light.
     const bool lit = sunlit(p, n, offset);
-    const LinearRgb reflected = trace_air(p, n, offset, r, t);
+    const LinearRgb reflected = trace_air(p, n, offset, air, t, sky_radiance(s, i));
     const LinearRgb transmitted =
         kr < 1.0f ? trace_water(p, n_down, offset, tr, lit ? sea_illumination : sea_shade_illumination, t) : LinearRgb{};
     // The sun's glint, widened by the slope variance of the octaves the LOD left out at this pixel.
@@ -463,12 +462,9 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     return surface_light * (1.0f - cover) + foam * cover;
   }
   // From below: the interface sent r back down into the sea and tr (outside Snell's window: none) up.
+  const Vec3 r{s.a[Scratch::rx][i], s.a[Scratch::ry][i], s.a[Scratch::rz][i]};
   const LinearRgb reflected = trace_water(p, n_down, offset, r, sea_illumination, t);
-  LinearRgb transmitted{};
-  if (kr < 1.0f) {
-    lift(tr);
-    transmitted = trace_air(p, n, offset, tr, t);
-  }
+  const LinearRgb transmitted = kr < 1.0f ? trace_air(p, n, offset, air, t, sky_radiance(s, i)) : LinearRgb{};
   return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
 }
 
@@ -476,29 +472,22 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
   const std::size_t w = width;
   float* const* a = s.a;
   // Eq. 8 normals, bent towards the viewer's side where a steep facet would face away from the ray
-  // (docs/rendering.md 3.3 (a)), then the exact Fresnel split for the whole row in one SIMD batch.
+  // (docs/rendering.md 3.3 (a)), the exact Fresnel split, the rays into air kept above the horizon
+  // (3.3 (b)) and the sky along them, for the whole row in SIMD batches; then each pixel's own rays.
   for (std::size_t i = 0; i < w; ++i) {
     const MarchStatus st = s.status[i];
-    Vec3 n{0.0f, 0.0f, 1.0f};
-    if (st == MarchStatus::hit || st == MarchStatus::hit_from_below) {
-      n = normalized({-a[Scratch::gx][i], -a[Scratch::gy][i], 1.0f});
-      const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
-      // From above the ray must meet the normal head on (n.d < 0), from below the other way.
-      const float want = st == MarchStatus::hit ? -0.01f : 0.01f;
-      const float nd = dot(n, d);
-      if (st == MarchStatus::hit ? nd > want : nd < want) {
-        const float k = nd - want;
-        n = normalized({n[0] - k * d[0], n[1] - k * d[1], n[2] - k * d[2]});
-      }
-    }
-    a[Scratch::nx][i] = n[0];
-    a[Scratch::ny][i] = n[1];
-    a[Scratch::nz][i] = n[2];
+    a[Scratch::side][i] = st == MarchStatus::hit ? 1.0f : st == MarchStatus::hit_from_below ? -1.0f : 0.0f;
   }
+  sea_normals({a[Scratch::side], a[Scratch::gx], a[Scratch::gy], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]}, w,
+              {a[Scratch::nx], a[Scratch::ny], a[Scratch::nz]});
   const ReflectRefractInput in{a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::nx], a[Scratch::ny], a[Scratch::nz]};
   reflect_refract(in, w, 1.0f, water_refractive_index,
                   {a[Scratch::rx], a[Scratch::ry], a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz],
                    a[Scratch::kr]});
+  air_directions({a[Scratch::side], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::rx], a[Scratch::ry],
+                  a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz]},
+                 w, min_reflected_dz, {a[Scratch::ax], a[Scratch::ay], a[Scratch::az]});
+  sky.lookup(a[Scratch::ax], a[Scratch::ay], a[Scratch::az], w, a[Scratch::sky_r], a[Scratch::sky_g], a[Scratch::sky_b]);
   float* acc = s.accumulated.data();
   for (std::size_t i = 0; i < w; ++i) {
     LinearRgb c = shade_primary(s, i, s.counters);
