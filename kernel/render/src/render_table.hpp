@@ -2,6 +2,7 @@
 #pragma once
 #include <cstddef>
 
+#include "foam.hpp"
 #include "houle/render/optics.hpp"
 
 namespace houle::detail {
@@ -13,6 +14,7 @@ struct RenderTable {
   void (*air_directions_batch)(const AirDirectionsInput&, std::size_t, float, AirDirectionsOutput) noexcept;
   void (*sky_lookup_batch)(const float* texels, const float*, const float*, const float*, std::size_t, float*, float*,
                            float*) noexcept;
+  void (*foam_cover_batch)(const SurfView&, const FoamInput&, std::size_t, float, float*) noexcept;
 };
 
 }  // namespace houle::detail

@@ -13,6 +13,8 @@
 #include "houle/render/sky.hpp"
 #include "houle/runtime/assert.hpp"
 #include "houle/runtime/thread_pool.hpp"
+#include "foam.hpp"
+#include "foam_impl.hpp"
 #include "scene_objects.hpp"
 #include "shadow_mask.hpp"
 
@@ -123,25 +125,6 @@ LinearRgb sky_irradiance_klx(const PreethamSky& sky) {
   return {float(e[0]), float(e[1]), float(e[2])};
 }
 
-/// Value noise in [-1, 1] on the unit lattice (a hash per lattice point, smoothstep between): the
-/// same bits on every machine (integer hashing, floor and products only).
-float lattice_noise(float x, float y) {
-  const float fx = std::floor(x), fy = std::floor(y);
-  const auto value = [](std::int32_t i, std::int32_t j) {
-    std::uint32_t h = std::uint32_t(i) * 0x8da6b343u ^ std::uint32_t(j) * 0xd8163841u;
-    h = (h ^ (h >> 15)) * 0x2c1b3c6du;
-    h ^= h >> 12;
-    return float(h & 0xffffu) * (2.0f / 65535.0f) - 1.0f;
-  };
-  const auto i = std::int32_t(fx), j = std::int32_t(fy);
-  float u = x - fx, v = y - fy;
-  u = u * u * (3.0f - 2.0f * u);
-  v = v * v * (3.0f - 2.0f * v);
-  const float a = value(i, j) + u * (value(i + 1, j) - value(i, j));
-  const float b = value(i, j + 1) + u * (value(i + 1, j + 1) - value(i, j + 1));
-  return a + v * (b - a);
-}
-
 /// The sand at p (docs/rendering.md 3.6): wet and darker (0.55 of the dry reflectance) under the
 /// water and up to wet_top above it, drying over the next metre; a grain of +-8 % (lattices of 2.3 m
 /// and 0.7 m) so a beach is not a flat plane, each lattice faded out as the pixel's footprint (m)
@@ -154,45 +137,10 @@ LinearRgb sand_at(LinearRgb dry, const Vec3& p, float footprint) {
   const auto fade = [&](float spacing) { return std::clamp(2.0f - footprint * 8.0f / spacing, 0.0f, 1.0f); };
   // A lattice faded out adds (+-)0 whatever its noise: the noise is not evaluated there (the same bits).
   const float coarse = fade(2.3f), fine = fade(0.7f);
-  const float grain = 1.0f + (coarse > 0.0f ? 0.05f * coarse * lattice_noise(x * 0.43f, y * 0.43f) : 0.0f) +
-                      (fine > 0.0f ? 0.03f * fine * lattice_noise(x * 1.4f + 17.0f, y * 1.4f) : 0.0f);
+  const float grain = 1.0f + (coarse > 0.0f ? 0.05f * coarse * detail::lattice_noise<simd::scalar>(x * 0.43f, y * 0.43f) : 0.0f) +
+                      (fine > 0.0f ? 0.03f * fine * detail::lattice_noise<simd::scalar>(x * 1.4f + 17.0f, y * 1.4f) : 0.0f);
   const float k = (wet + (1.0f - wet) * dryness) * grain;
   return {std::min(dry.r * k, 1.0f), std::min(dry.g * k, 1.0f), std::min(dry.b * k, 1.0f)};
-}
-
-/// The surf map as the renderer reads it, packed once per scene: a node's four fields side by side, so
-/// that a pixel's bilinear lookup touches two cache lines, not eight (the map of the built-in coast is
-/// a few MB, beyond the caches, and 80 % of its sea pixels read it).
-struct PackedSurf {
-  float origin_x = 0.0f, origin_y = 0.0f, cell = 1.0f;  ///< m
-  std::uint32_t nx = 0, ny = 0;
-  std::vector<std::array<float, 4>> nodes;  ///< foam, dir_x, dir_y, amplitude
-};
-PackedSurf pack(const SurfMap& m) {
-  std::vector<std::array<float, 4>> nodes;
-  nodes.reserve(m.foam.size());
-  for (std::size_t n = 0; n < m.foam.size(); ++n) nodes.push_back({m.foam[n], m.dir_x[n], m.dir_y[n], m.amplitude[n]});
-  return {m.origin_x, m.origin_y, m.cell, m.nx, m.ny, std::move(nodes)};
-}
-
-/// The surf map's fields at (x, y), bilinear; all 0 outside the map.
-struct SurfSample {
-  float foam = 0.0f, dir_x = 0.0f, dir_y = 0.0f, amplitude = 0.0f;
-};
-SurfSample surf_at(const PackedSurf& m, float x, float y) {
-  const float u = (x - m.origin_x) / m.cell, v = (y - m.origin_y) / m.cell;
-  if (!(u >= 0.0f && v >= 0.0f && u < float(m.nx - 1) && v < float(m.ny - 1))) return {};  // NaN too
-  const auto i = std::size_t(u), j = std::size_t(v);
-  const float a = u - float(i), b = v - float(j);
-  const std::array<float, 4>* row = m.nodes.data() + j * m.nx + i;
-  const std::array<float, 4>&n00 = row[0], &n10 = row[1], &n01 = row[m.nx], &n11 = row[m.nx + 1];
-  // Four foam nodes at 0 interpolate to 0, foam_cover's answer with no foam.
-  if (n00[0] == 0.0f && n10[0] == 0.0f && n01[0] == 0.0f && n11[0] == 0.0f) return {};
-  const auto lerp = [&](int k) {
-    const float lo = n00[k] + a * (n10[k] - n00[k]), hi = n01[k] + a * (n11[k] - n01[k]);
-    return lo + b * (hi - lo);
-  };
-  return {lerp(0), lerp(1), lerp(2), lerp(3)};
 }
 
 bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
@@ -201,7 +149,7 @@ bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && st
 struct alignas(64) Scratch {
   enum Array {
     dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, side, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr,
-    ax, ay, az, sky_r, sky_g, sky_b, count
+    ax, ay, az, sky_r, sky_g, sky_b, foam, count
   };
   std::vector<float> memory;
   float* a[count] = {};
@@ -237,7 +185,7 @@ struct Renderer::Impl {
   // Light in the renderer's relative units (see renderer.hpp).
   Vec3 sun{0.0f, 0.0f, 1.0f};
   LinearRgb sand;             ///< the dry sand's reflectance
-  PackedSurf surf;            ///< where waves break (empty: nowhere)
+  detail::PackedSurf surf;   ///< where waves break (empty: nowhere)
   LinearRgb sun_rgb;          ///< a white surface facing the sun reflects this
   LinearRgb ambient;          ///< a white horizontal surface reflects this of the sky's light
   LinearRgb sky_scale;        ///< sky kcd/m^2 -> relative radiance (dimmed and tinted after sunset)
@@ -292,7 +240,6 @@ struct Renderer::Impl {
   LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float illumination,
                         float travelled) const noexcept;
   bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
-  float foam_cover(const Vec3& p, float grad_x, float grad_y, float footprint) const noexcept;
   float sun_path_in_water(const Vec3& p) const noexcept {
     return sun_water[2] > 0.0f ? std::max(0.0f, -p[2]) / sun_water[2] : 0.0f;
   }
@@ -378,22 +325,6 @@ LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, 
   return through_water(lit_in_water(h, q, d, travelled), h.t, sun_path_in_water(q), illumination);
 }
 
-/// How much of the sea at hit p (surface gradient grad) foam covers (docs/rendering.md 3.7): where the
-/// surf map says waves break, on the crests (their height against the breaking wave's amplitude)
-/// and most on their front faces (the surface falling along the waves' travel), with a thinner sheet
-/// of spent foam between them; patchy, the patches faded out as the footprint (m) grows past them.
-float Renderer::Impl::foam_cover(const Vec3& p, float grad_x, float grad_y, float footprint) const noexcept {
-  const SurfSample s = surf_at(surf, p[0], p[1]);
-  if (!(s.foam > 0.0f)) return 0.0f;
-  const float up = std::clamp(p[2] / std::max(s.amplitude, 0.05f) + 0.3f, 0.0f, 1.0f);
-  const float crest = up * up * (3.0f - 2.0f * up);
-  const float moving = s.dir_x * s.dir_x + s.dir_y * s.dir_y;  // 0 at a wall's toe: every crest foams
-  const float front = moving > 0.25f ? std::clamp(-5.0f * (grad_x * s.dir_x + grad_y * s.dir_y), 0.0f, 1.0f) : 1.0f;
-  const float patches = std::clamp(2.0f - footprint * 8.0f / 1.5f, 0.0f, 1.0f);
-  const float texture = patches > 0.0f ? 0.7f + 0.3f * patches * lattice_noise(p[0] * 0.8f + 5.0f, p[1] * 0.8f) : 0.7f;
-  return std::clamp(s.foam * (0.2f + crest * (0.3f + 0.7f * front)) * texture, 0.0f, 1.0f);
-}
-
 /// Whether the sun reaches the sea's surface at p past the boxes and spheres (docs/rendering.md 3.5):
 /// its glint and its share of the water's light are in their shadow otherwise. The ray goes only as
 /// far as the highest object.
@@ -452,7 +383,7 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     }
     const LinearRgb surface_light = reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
     if (surf.nx == 0) return surface_light;
-    const float cover = foam_cover(p, s.a[Scratch::gx][i], s.a[Scratch::gy][i], t * camera.pixel_angle);
+    const float cover = s.a[Scratch::foam][i];
     if (!(cover > 0.0f)) return surface_light;
     // Foam is a white diffuse layer on the water, lit like an object's face along the normal.
     constexpr float foam_albedo = 0.85f;
@@ -488,6 +419,11 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
                   a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz]},
                  w, min_reflected_dz, {a[Scratch::ax], a[Scratch::ay], a[Scratch::az]});
   sky.lookup(a[Scratch::ax], a[Scratch::ay], a[Scratch::az], w, a[Scratch::sky_r], a[Scratch::sky_g], a[Scratch::sky_b]);
+  if (surf.nx != 0) {
+    detail::foam_cover(surf.view(),
+                       {a[Scratch::side], a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::gx], a[Scratch::gy], a[Scratch::t]},
+                       w, camera.pixel_angle, a[Scratch::foam]);
+  }
   float* acc = s.accumulated.data();
   for (std::size_t i = 0; i < w; ++i) {
     LinearRgb c = shade_primary(s, i, s.counters);
@@ -647,10 +583,11 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
   const std::size_t surf_nodes = std::size_t(surf.nx) * surf.ny;
   if ((surf.nx == 0) != (surf.ny == 0) || (surf.nx != 0 && (surf.nx < 2 || surf.ny < 2)) ||
       !(std::isfinite(surf.cell) && surf.cell > 0.0f) || surf.foam.size() != surf_nodes ||
-      surf.dir_x.size() != surf_nodes || surf.dir_y.size() != surf_nodes || surf.amplitude.size() != surf_nodes) {
-    return Error{"surf", "nx, ny >= 2 (or both 0), a cell > 0 m and nx * ny values in each field"};
+      surf.dir_x.size() != surf_nodes || surf.dir_y.size() != surf_nodes || surf.amplitude.size() != surf_nodes ||
+      !detail::surf_map_fits(surf.nx, surf.ny)) {
+    return Error{"surf", "nx, ny >= 2 (or both 0), at most 2^29 nodes, a cell > 0 m and nx * ny values in each field"};
   }
-  r.surf = pack(surf);
+  r.surf = detail::pack(surf);
   const float elevation = std::asin(std::clamp(r.sun[2], -1.0f, 1.0f));
   const LinearRgb transmittance = sun_transmittance(double(r.sun[2]), double(scene.turbidity));
   const double e_sun = solar_constant_klx * double(luminance(transmittance));
