@@ -1,65 +1,19 @@
-// Surf foam on the sea (docs/rendering.md 3.7) and the value noise that breaks it (and the sand) into
-// patches, written once for every width: the renderer calls them a row of sea hits at a time, and
-// lattice_noise<simd::scalar> is the sand's grain (included by renderer.cpp, foam.cpp and
-// render_isa.cpp). Only +, -, *, simd::div, comparisons, exact conversions, wrapping integer products
-// and gathers: every SIMD path gives the scalar path's bits (tests/kernel/test_foam.cpp).
+// Surf foam on the sea (docs/rendering.md 3.7), written once for every width: the renderer calls it a
+// row of sea hits at a time (included by render_isa.cpp). Only +, -, *, simd::div, comparisons, exact
+// conversions and gathers, and the lattice noise: every SIMD path gives the scalar path's bits
+// (tests/kernel/test_foam.cpp).
 #pragma once
 #include <cstddef>
-#include <cstdint>
 #include <limits>
-#include <type_traits>
 
 #include "foam.hpp"
 #include "houle/simd/batch_loop.hpp"
 #include "houle/simd/gather.hpp"
 #include "houle/simd/simd.hpp"
-#include "sky_impl.hpp"  // max_keep_first, min_keep_first
+#include "lane_ops.hpp"
+#include "lattice_noise_impl.hpp"
 
 namespace houle::detail {
-
-/// std::clamp(v, lo, hi) lane by lane, NaN included (it stays NaN).
-template <class V>
-inline V clamp_like_std(V v, V lo, V hi) {
-  return simd::select(v < lo, lo, simd::select(hi < v, hi, v));
-}
-
-/// a * c modulo 2^32 (the scalar path multiplies unsigned: a signed product must not overflow).
-template <class I>
-inline I wrapping_product(I a, std::uint32_t c) {
-  if constexpr (std::is_same_v<I, std::int32_t>) {
-    return static_cast<std::int32_t>(static_cast<std::uint32_t>(a) * c);
-  } else {
-    return a * I(static_cast<std::int32_t>(c));
-  }
-}
-
-/// The value at lattice point (i, j) in [-1, 1]: an integer hash, the same bits on every machine. The
-/// shifts are logical: an arithmetic shift, then the sign's copies masked off.
-template <class I, class V>
-inline V lattice_value(I i, I j) {
-  I h = wrapping_product(i, 0x8da6b343u) ^ wrapping_product(j, 0xd8163841u);
-  h = wrapping_product(h ^ ((h >> 15) & I(0x1ffff)), 0x2c1b3c6du);
-  h = h ^ ((h >> 12) & I(0xfffff));
-  return simd::to_float_exact(h & I(0xffff)) * V(2.0f / 65535.0f) - V(1.0f);
-}
-
-/// Value noise in [-1, 1] on the unit lattice (a hash per lattice point, smoothstep between), for
-/// |x|, |y| < 2^22 (simd::floor_exact).
-template <class A>
-inline simd::vfloat<A> lattice_noise(simd::vfloat<A> x, simd::vfloat<A> y) {
-  using V = simd::vfloat<A>;
-  using I = simd::vint<A>;
-  const V fx = simd::floor_exact(x), fy = simd::floor_exact(y);
-  const I i = simd::to_int_exact(fx), j = simd::to_int_exact(fy);
-  V u = x - fx, v = y - fy;
-  u = u * u * (V(3.0f) - V(2.0f) * u);
-  v = v * v * (V(3.0f) - V(2.0f) * v);
-  const V v00 = lattice_value<I, V>(i, j), v10 = lattice_value<I, V>(i + I(1), j);
-  const V v01 = lattice_value<I, V>(i, j + I(1)), v11 = lattice_value<I, V>(i + I(1), j + I(1));
-  const V a = v00 + u * (v10 - v00);
-  const V b = v01 + u * (v11 - v01);
-  return a + v * (b - a);
-}
 
 /// How much of the sea at (x, y, z) with gradient (gx, gy) foam covers, for a pixel footprint (m): where
 /// the surf map says waves break, on the crests (their height against the breaking wave's amplitude)
@@ -89,17 +43,17 @@ inline simd::vfloat<A> foam_cover(const SurfView& m, simd::vfloat<A> x, simd::vf
   const auto foaming = inside & (foam > V(0.0f));
   if (!simd::any(foaming)) return V(0.0f);
   const V dir_x = field(1), dir_y = field(2), amplitude = field(3);
-  const V up = clamp_like_std(simd::div(z, max_keep_first(amplitude, V(0.05f))) + V(0.3f), V(0.0f), V(1.0f));
+  const V up = clamp_as_std(simd::div(z, max_as_std(amplitude, V(0.05f))) + V(0.3f), V(0.0f), V(1.0f));
   const V crest = up * up * (V(3.0f) - V(2.0f) * up);
   const V moving = dir_x * dir_x + dir_y * dir_y;  // 0 at a wall's toe: every crest foams
   const V front = simd::select(moving > V(0.25f),
-                               clamp_like_std(V(-5.0f) * (gx * dir_x + gy * dir_y), V(0.0f), V(1.0f)), V(1.0f));
-  const V patches = clamp_like_std(V(2.0f) - simd::div(footprint * V(8.0f), V(1.5f)), V(0.0f), V(1.0f));
+                               clamp_as_std(V(-5.0f) * (gx * dir_x + gy * dir_y), V(0.0f), V(1.0f)), V(1.0f));
+  const V patches = clamp_as_std(V(2.0f) - simd::div(footprint * V(8.0f), V(1.5f)), V(0.0f), V(1.0f));
   // Where the patches are faded out the noise is not evaluated in the scalar path: the same bits.
   const auto patchy = patches > V(0.0f);
   const V noise = simd::any(patchy) ? lattice_noise<A>(x * V(0.8f) + V(5.0f), y * V(0.8f)) : V(0.0f);
   const V texture = simd::select(patchy, V(0.7f) + V(0.3f) * patches * noise, V(0.7f));
-  const V cover = clamp_like_std(foam * (V(0.2f) + crest * (V(0.3f) + V(0.7f) * front)) * texture, V(0.0f), V(1.0f));
+  const V cover = clamp_as_std(foam * (V(0.2f) + crest * (V(0.3f) + V(0.7f) * front)) * texture, V(0.0f), V(1.0f));
   return simd::select(foaming, cover, V(0.0f));
 }
 

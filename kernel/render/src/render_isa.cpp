@@ -4,6 +4,7 @@
 #include "foam_impl.hpp"
 #include "optics_impl.hpp"
 #include "render_table.hpp"
+#include "sand_impl.hpp"
 #include "sky_impl.hpp"
 
 namespace houle::detail {
@@ -11,7 +12,8 @@ namespace {
 template <class A>
 constexpr RenderTable make_render_table() {
   return {&fresnel_batch<A>, &reflect_refract_batch<A>, &sea_normals_batch<A>, &air_directions_batch<A>,
-          &sky_lookup_batch<A>, &foam_cover_batch<A>};
+          &sky_lookup_batch<A>, &foam_cover_batch<A>,
+          &sand_albedo_batch<A>};
 }
 }  // namespace
 }  // namespace houle::detail

@@ -4,6 +4,7 @@
 
 #include "foam.hpp"
 #include "houle/render/optics.hpp"
+#include "sand.hpp"
 
 namespace houle::detail {
 
@@ -15,6 +16,7 @@ struct RenderTable {
   void (*sky_lookup_batch)(const float* texels, const float*, const float*, const float*, std::size_t, float*, float*,
                            float*) noexcept;
   void (*foam_cover_batch)(const SurfView&, const FoamInput&, std::size_t, float, float*) noexcept;
+  void (*sand_albedo_batch)(const LinearRgb&, const SandInput&, std::size_t, SandOutput) noexcept;
 };
 
 }  // namespace houle::detail

@@ -14,7 +14,8 @@
 #include "houle/runtime/assert.hpp"
 #include "houle/runtime/thread_pool.hpp"
 #include "foam.hpp"
-#include "foam_impl.hpp"
+#include "sand.hpp"
+#include "sand_impl.hpp"
 #include "scene_objects.hpp"
 #include "shadow_mask.hpp"
 
@@ -125,37 +126,20 @@ LinearRgb sky_irradiance_klx(const PreethamSky& sky) {
   return {float(e[0]), float(e[1]), float(e[2])};
 }
 
-/// The sand at p (docs/rendering.md 3.6): wet and darker (0.55 of the dry reflectance) under the
-/// water and up to wet_top above it, drying over the next metre; a grain of +-8 % (lattices of 2.3 m
-/// and 0.7 m) so a beach is not a flat plane, each lattice faded out as the pixel's footprint (m)
-/// reaches a quarter of its spacing: finer it would alias into speckle.
-LinearRgb sand_at(LinearRgb dry, const Vec3& p, float footprint) {
-  constexpr float wet_top = 0.3f, drying = 1.0f, wet = 0.55f;
-  const float u = std::clamp((p[2] - wet_top) / drying, 0.0f, 1.0f);
-  const float dryness = u * u * (3.0f - 2.0f * u);
-  const float x = std::clamp(p[0], -1e6f, 1e6f), y = std::clamp(p[1], -1e6f, 1e6f);
-  const auto fade = [&](float spacing) { return std::clamp(2.0f - footprint * 8.0f / spacing, 0.0f, 1.0f); };
-  // A lattice faded out adds (+-)0 whatever its noise: the noise is not evaluated there (the same bits).
-  const float coarse = fade(2.3f), fine = fade(0.7f);
-  const float grain = 1.0f + (coarse > 0.0f ? 0.05f * coarse * detail::lattice_noise<simd::scalar>(x * 0.43f, y * 0.43f) : 0.0f) +
-                      (fine > 0.0f ? 0.03f * fine * detail::lattice_noise<simd::scalar>(x * 1.4f + 17.0f, y * 1.4f) : 0.0f);
-  const float k = (wet + (1.0f - wet) * dryness) * grain;
-  return {std::min(dry.r * k, 1.0f), std::min(dry.g * k, 1.0f), std::min(dry.b * k, 1.0f)};
-}
-
 bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
 
 /// Per-thread row buffers (SoA, `width` entries each), sized once by create().
 struct alignas(64) Scratch {
   enum Array {
     dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, side, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr,
-    ax, ay, az, sky_r, sky_g, sky_b, foam, count
+    ax, ay, az, sky_r, sky_g, sky_b, foam, on_sand, qx, qy, qz, footprint, sand_r, sand_g, sand_b, count
   };
   std::vector<float> memory;
   float* a[count] = {};
   std::vector<float> accumulated;  // 3 per pixel
   std::vector<MarchStatus> status;
   std::vector<SurfaceHit> object;
+  std::vector<SurfaceHit> under;  // what the ray into the water from a sea hit meets (shade_sample)
   std::int64_t march_ns = 0, intersect_ns = 0, shade_ns = 0;
   RenderCounters counters;
 
@@ -166,6 +150,7 @@ struct alignas(64) Scratch {
     accumulated.assign(std::size_t(width) * 3, 0.0f);
     status.assign(width, MarchStatus::miss);
     object.assign(width, SurfaceHit{});
+    under.assign(width, SurfaceHit{});
   }
 };
 
@@ -232,13 +217,24 @@ struct Renderer::Impl {
   }
   // `travelled`: m from the camera to where the ray starts (0 for primary rays): with the hit's t it
   // gives the pixel's footprint there.
-  LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept;
-  LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept;
+  LinearRgb albedo(const SurfaceHit& h, const Vec3& p, float travelled) const noexcept;
+  /// The albedo at pixel i's floor hit (shade_sample's sand_albedo) or object hit h.
+  LinearRgb albedo(const Scratch& s, std::size_t i, const SurfaceHit& h) const noexcept {
+    return h.kind == HitKind::floor ? LinearRgb{s.a[Scratch::sand_r][i], s.a[Scratch::sand_g][i], s.a[Scratch::sand_b][i]}
+                                    : objects.albedo(h);
+  }
+  LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept;
+  LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept;
   LinearRgb through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept;
   LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float travelled,
                       LinearRgb sky_along_d) const noexcept;
-  LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float illumination,
-                        float travelled) const noexcept;
+  SurfaceHit water_hit(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
+    return objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0,
+                                       double(std::min(underwater_reach, max_distance)));
+  }
+  LinearRgb through_water_to(const SurfaceHit& h, LinearRgb albedo, const Vec3& p, const Vec3& d,
+                             float illumination) const noexcept;
+  void find_water_hits(Scratch& s) const noexcept;
   bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
   float sun_path_in_water(const Vec3& p) const noexcept {
     return sun_water[2] > 0.0f ? std::max(0.0f, -p[2]) / sun_water[2] : 0.0f;
@@ -247,10 +243,15 @@ struct Renderer::Impl {
 
 // ---- Shading ----------------------------------------------------------------------------------
 
-LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept {
+LinearRgb Renderer::Impl::albedo(const SurfaceHit& h, const Vec3& p, float travelled) const noexcept {
+  if (h.kind != HitKind::floor) return objects.albedo(h);
+  const auto c = detail::sand_at<simd::scalar>(sand, p[0], p[1], p[2], (travelled + h.t) * camera.pixel_angle);
+  return {c.r, c.g, c.b};
+}
+
+LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept {
   Vec3 n = h.normal;
   if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};  // the side the ray sees
-  const LinearRgb albedo = h.kind == HitKind::floor ? sand_at(sand, p, (travelled + h.t) * camera.pixel_angle) : objects.albedo(h);
   LinearRgb light = ambient * (0.5f * (1.0f + n[2]));
   const float cos_sun = dot(n, sun);
   if (cos_sun > 0.0f) {
@@ -261,10 +262,9 @@ LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const V
   return albedo * light;
 }
 
-LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept {
+LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept {
   Vec3 n = h.normal;
   if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};
-  const LinearRgb albedo = h.kind == HitKind::floor ? sand_at(sand, p, (travelled + h.t) * camera.pixel_angle) : objects.albedo(h);
   LinearRgb light = ambient_water * (0.5f * (1.0f + n[2]));
   const float cos_sun = dot(n, sun_water);
   if (cos_sun > 0.0f && sun_water[2] > 0.0f) {
@@ -309,20 +309,21 @@ LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, fl
                                      float travelled, LinearRgb sky_along_d) const noexcept {
   if (quality.reflect_objects) {
     const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
-    if (h.kind != HitKind::none) return lit_in_air(h, along(p, d, h.t), d, travelled);
+    if (h.kind != HitKind::none) {
+      const Vec3 q = along(p, d, h.t);
+      return lit_in_air(h, q, d, albedo(h, q, travelled));
+    }
   }
   return sky_along_d;
 }
 
-/// Radiance arriving at p from direction d through water: eq. 12 on the floor or an object within
-/// reach, I_sea otherwise.
-LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
-                                       float illumination, float travelled) const noexcept {
-  const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0,
-                                                  double(std::min(underwater_reach, max_distance)));
+/// Radiance arriving at p from direction d through water, which meets h (water_hit) of that albedo:
+/// eq. 12 on the floor or an object within reach, I_sea otherwise.
+LinearRgb Renderer::Impl::through_water_to(const SurfaceHit& h, LinearRgb albedo, const Vec3& p, const Vec3& d,
+                                           float illumination) const noexcept {
   if (h.kind == HitKind::none) return water->sea_colour() * illumination;
   const Vec3 q = along(p, d, h.t);
-  return through_water(lit_in_water(h, q, d, travelled), h.t, sun_path_in_water(q), illumination);
+  return through_water(lit_in_water(h, q, d, albedo), h.t, sun_path_in_water(q), illumination);
 }
 
 /// Whether the sun reaches the sea's surface at p past the boxes and spheres (docs/rendering.md 3.5):
@@ -352,8 +353,8 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     }
     ++c.object;
     const Vec3 p = along(camera.position, d, h.t);
-    if (!camera_under) return lit_in_air(h, p, d, 0.0f);
-    return through_water(lit_in_water(h, p, d, 0.0f), h.t, sun_path_in_water(p), sea_illumination);
+    if (!camera_under) return lit_in_air(h, p, d, albedo(s, i, h));
+    return through_water(lit_in_water(h, p, d, albedo(s, i, h)), h.t, sun_path_in_water(p), sea_illumination);
   }
   ++c.sea;
   const float t = s.a[Scratch::t][i];
@@ -363,14 +364,15 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
   // The ray that leaves into air, kept above the horizon (shade_sample).
   const Vec3 air{s.a[Scratch::ax][i], s.a[Scratch::ay][i], s.a[Scratch::az][i]};
   const float offset = 1e-3f + 1e-4f * t;
-  const Vec3 n_down{-n[0], -n[1], -n[2]};
+  const SurfaceHit& under = s.under[i];
   if (status == MarchStatus::hit) {
     const Vec3 tr{s.a[Scratch::tx][i], s.a[Scratch::ty][i], s.a[Scratch::tz][i]};
     // In an object's shadow the sea loses the glint and the sun's share of its own light.
     const bool lit = sunlit(p, n, offset);
     const LinearRgb reflected = trace_air(p, n, offset, air, t, sky_radiance(s, i));
     const LinearRgb transmitted =
-        kr < 1.0f ? trace_water(p, n_down, offset, tr, lit ? sea_illumination : sea_shade_illumination, t) : LinearRgb{};
+        kr < 1.0f ? through_water_to(under, albedo(s, i, under), p, tr, lit ? sea_illumination : sea_shade_illumination)
+                  : LinearRgb{};
     // The sun's glint, widened by the slope variance of the octaves the LOD left out at this pixel.
     float glint = 0.0f;
     const Vec3 v{-d[0], -d[1], -d[2]};
@@ -394,9 +396,43 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
   }
   // From below: the interface sent r back down into the sea and tr (outside Snell's window: none) up.
   const Vec3 r{s.a[Scratch::rx][i], s.a[Scratch::ry][i], s.a[Scratch::rz][i]};
-  const LinearRgb reflected = trace_water(p, n_down, offset, r, sea_illumination, t);
+  const LinearRgb reflected = through_water_to(under, albedo(s, i, under), p, r, sea_illumination);
   const LinearRgb transmitted = kr < 1.0f ? trace_air(p, n, offset, air, t, sky_radiance(s, i)) : LinearRgb{};
   return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
+}
+
+/// For each pixel of the row, what its ray into the water meets (a sea hit's refracted ray, or its
+/// reflected one from below) in s.under, and where a pixel's ray meets the floor (that one, or the
+/// primary ray's; the footprint there in m) for the sand.
+void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
+  float* const* a = s.a;
+  for (std::size_t i = 0; i < width; ++i) {
+    const float side = a[Scratch::side][i];
+    SurfaceHit* h = &s.under[i];
+    Vec3 from = camera.position, d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
+    float travelled = 0.0f;
+    *h = SurfaceHit{};
+    if (side != 0.0f) {
+      // From above the refracted ray (none under total reflection), from below the reflected one.
+      from = {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]};
+      d = side > 0.0f ? Vec3{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]}
+                      : Vec3{a[Scratch::rx][i], a[Scratch::ry][i], a[Scratch::rz][i]};
+      travelled = a[Scratch::t][i];
+      if (side < 0.0f || a[Scratch::kr][i] < 1.0f) {
+        const float offset = 1e-3f + 1e-4f * travelled;
+        *h = water_hit(from, {-a[Scratch::nx][i], -a[Scratch::ny][i], -a[Scratch::nz][i]}, offset, d);
+      }
+    } else {
+      h = &s.object[i];
+    }
+    const bool floor = h->kind == HitKind::floor;
+    const Vec3 q = floor ? along(from, d, h->t) : Vec3{};
+    a[Scratch::on_sand][i] = floor ? 1.0f : 0.0f;
+    a[Scratch::qx][i] = q[0];
+    a[Scratch::qy][i] = q[1];
+    a[Scratch::qz][i] = q[2];
+    a[Scratch::footprint][i] = (travelled + h->t) * camera.pixel_angle;
+  }
 }
 
 void Renderer::Impl::shade_sample(Scratch& s) noexcept {
@@ -404,7 +440,8 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
   float* const* a = s.a;
   // Eq. 8 normals, bent towards the viewer's side where a steep facet would face away from the ray
   // (docs/rendering.md 3.3 (a)), the exact Fresnel split, the rays into air kept above the horizon
-  // (3.3 (b)) and the sky along them, for the whole row in SIMD batches; then each pixel's own rays.
+  // (3.3 (b)) and the sky along them, the foam, for the whole row in SIMD batches; then each pixel's
+  // own rays.
   for (std::size_t i = 0; i < w; ++i) {
     const MarchStatus st = s.status[i];
     a[Scratch::side][i] = st == MarchStatus::hit ? 1.0f : st == MarchStatus::hit_from_below ? -1.0f : 0.0f;
@@ -415,14 +452,22 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
   reflect_refract(in, w, 1.0f, water_refractive_index,
                   {a[Scratch::rx], a[Scratch::ry], a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz],
                    a[Scratch::kr]});
-  air_directions({a[Scratch::side], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::rx], a[Scratch::ry],
-                  a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz]},
-                 w, min_reflected_dz, {a[Scratch::ax], a[Scratch::ay], a[Scratch::az]});
-  sky.lookup(a[Scratch::ax], a[Scratch::ay], a[Scratch::az], w, a[Scratch::sky_r], a[Scratch::sky_g], a[Scratch::sky_b]);
-  if (surf.nx != 0) {
-    detail::foam_cover(surf.view(),
-                       {a[Scratch::side], a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::gx], a[Scratch::gy], a[Scratch::t]},
-                       w, camera.pixel_angle, a[Scratch::foam]);
+  if (view == RenderView::shaded) {
+    air_directions({a[Scratch::side], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::rx], a[Scratch::ry],
+                    a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz]},
+                   w, min_reflected_dz, {a[Scratch::ax], a[Scratch::ay], a[Scratch::az]});
+    sky.lookup(a[Scratch::ax], a[Scratch::ay], a[Scratch::az], w, a[Scratch::sky_r], a[Scratch::sky_g], a[Scratch::sky_b]);
+    if (surf.nx != 0) {
+      detail::foam_cover(surf.view(),
+                         {a[Scratch::side], a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::gx], a[Scratch::gy],
+                          a[Scratch::t]},
+                         w, camera.pixel_angle, a[Scratch::foam]);
+    }
+    // The rays into the water walk the floor one by one; the sand where they (or primary rays) meet it
+    // is coloured a packet at a time.
+    find_water_hits(s);
+    detail::sand_albedo(sand, {a[Scratch::on_sand], a[Scratch::qx], a[Scratch::qy], a[Scratch::qz], a[Scratch::footprint]},
+                        w, {a[Scratch::sand_r], a[Scratch::sand_g], a[Scratch::sand_b]});
   }
   float* acc = s.accumulated.data();
   for (std::size_t i = 0; i < w; ++i) {

@@ -1,9 +1,8 @@
 // The sky table's lookup (SkyLut, sky.hpp), written once for every width: SkyLut::lookup is its scalar
 // instance, the shading reads it per packet (included by sky.cpp and render_isa.cpp).
 // Only +, -, *, simd::div, simd::sqrt, comparisons and exact integer conversions, so every SIMD path
-// gives the scalar path's bits (tests/kernel/test_sky.cpp). Minima and maxima are written as selects
-// with std::min and std::max's operand order: a NaN direction reads texel (0, 0) on every path, where
-// the min and max instructions would keep the NaN.
+// gives the scalar path's bits (tests/kernel/test_sky.cpp). Minima and maxima are lane_ops.hpp's: a NaN
+// direction reads texel (0, 0) on every path.
 #pragma once
 #include <algorithm>
 #include <cstddef>
@@ -12,6 +11,7 @@
 #include "houle/simd/batch_loop.hpp"
 #include "houle/simd/gather.hpp"
 #include "houle/simd/simd.hpp"
+#include "lane_ops.hpp"
 
 namespace houle::detail {
 
@@ -22,16 +22,6 @@ inline constexpr double sky_min_view_z = 9.9999983333334168e-4;
 // The row warp's k (sky_row_of_z; sky.cpp's z_of_row says why 0.35).
 inline constexpr double sky_row_warp = 0.35;
 
-/// std::max(a, b) and std::min(a, b) lane by lane, NaNs included.
-template <class V>
-inline V max_keep_first(V a, V b) {
-  return simd::select(a < b, b, a);
-}
-template <class V>
-inline V min_keep_first(V a, V b) {
-  return simd::select(b < a, b, a);
-}
-
 // Column coordinate of a view's azimuth: the "diamond angle" p in [0, 4), a monotonic stand-in for
 // atan2 made of one division and a sign. With t = x / (|x| + |y|): p = 1 - t for y >= 0 and
 // 3 + t for y < 0 (p = 0 along +x, 1 along +y, 2 along -x, 3 along -y). Columns uniform in p are
@@ -40,7 +30,7 @@ inline V min_keep_first(V a, V b) {
 template <class A>
 inline simd::vfloat<A> sky_column_of_xy(simd::vfloat<A> x, simd::vfloat<A> y) {
   using V = simd::vfloat<A>;
-  const V t = simd::div(x, max_keep_first(simd::abs(x) + simd::abs(y), V(1e-30f)));
+  const V t = simd::div(x, max_as_std(simd::abs(x) + simd::abs(y), V(1e-30f)));
   // copysign(1, y): the sign bit of y on 1.
   const simd::vint<A> sign = simd::bitcast_to_int(y) & simd::vint<A>(INT32_MIN);
   const V one_signed = simd::bitcast_to_float(sign | simd::bitcast_to_int(V(1.0f)));
@@ -55,9 +45,9 @@ template <class A>
 inline simd::vfloat<A> sky_row_of_z(simd::vfloat<A> z) {
   using V = simd::vfloat<A>;
   constexpr float z0 = float(sky_min_view_z), scale = float(1.0 / (1.0 - sky_min_view_z)), k = float(sky_row_warp);
-  const V zr = min_keep_first(max_keep_first((z - V(z0)) * V(scale), V(0.0f)), V(1.0f));
+  const V zr = min_as_std(max_as_std((z - V(z0)) * V(scale), V(0.0f)), V(1.0f));
   const V w = simd::div(zr * V(1.0f + k), zr + V(k));
-  return V(1.0f) - simd::sqrt(max_keep_first(V(1.0f) - w, V(0.0f)));
+  return V(1.0f) - simd::sqrt(max_as_std(V(1.0f) - w, V(0.0f)));
 }
 
 template <class A>
@@ -71,9 +61,9 @@ template <class A>
 inline SkyRgb<A> sky_lookup(const float* texels, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> z) {
   using V = simd::vfloat<A>;
   using I = simd::vint<A>;
-  const V fu = min_keep_first(max_keep_first(V(0.0f), sky_column_of_xy<A>(x, y) * V(float(sky_columns / 4))),
+  const V fu = min_as_std(max_as_std(V(0.0f), sky_column_of_xy<A>(x, y) * V(float(sky_columns / 4))),
                               V(float(sky_columns)));
-  const V fv = max_keep_first(V(0.0f), sky_row_of_z<A>(z) * V(float(sky_rows - 1)));
+  const V fv = max_as_std(V(0.0f), sky_row_of_z<A>(z) * V(float(sky_rows - 1)));
   using std::min;  // int32 in the scalar path, xsimd's by argument-dependent lookup for batches
   const I i = min(simd::to_int_exact(fu), I(sky_columns - 1));
   const I j = min(simd::to_int_exact(fv), I(sky_rows - 2));
