@@ -1,10 +1,17 @@
-// std::max, std::min and std::clamp lane by lane, with the standard functions' operand order, so that
-// a kernel's scalar instance is the scalar code it replaced, NaNs included (xsimd's min and max follow
-// the instructions, which return the second operand when either is NaN).
+// What the render room's kernels share: a colour per lane, and std::max, std::min and std::clamp lane
+// by lane with the standard functions' operand order, so that a kernel's scalar instance is the scalar
+// code it replaced, NaNs included (xsimd's min and max follow the instructions, which return the second
+// operand when either is NaN).
 #pragma once
 #include "houle/simd/simd.hpp"
 
 namespace houle::detail {
+
+/// Linear sRGB, a colour per lane.
+template <class A>
+struct Rgb {
+  simd::vfloat<A> r, g, b;
+};
 
 /// std::max(a, b) and std::min(a, b) lane by lane, NaNs included.
 template <class V>

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstddef>
 
+#include "colour_impl.hpp"
 #include "foam.hpp"
 #include "houle/render/optics.hpp"
 #include "sand.hpp"
@@ -16,6 +17,7 @@ struct RenderTable {
   void (*sky_lookup_batch)(const float* texels, const float*, const float*, const float*, std::size_t, float*, float*,
                            float*) noexcept;
   void (*foam_cover_batch)(const SurfView&, const FoamInput&, std::size_t, float, float*) noexcept;
+  void (*water_mix_batch)(const WaterTable&, const WaterMixInput&, std::size_t, WaterMixOutput) noexcept;
   void (*sand_albedo_batch)(const LinearRgb&, const SandInput&, std::size_t, SandOutput) noexcept;
 };
 

@@ -132,7 +132,8 @@ bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && st
 struct alignas(64) Scratch {
   enum Array {
     dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, side, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr,
-    ax, ay, az, sky_r, sky_g, sky_b, foam, on_sand, qx, qy, qz, footprint, sand_r, sand_g, sand_b, count
+    ax, ay, az, sky_r, sky_g, sky_b, foam, on_sand, qx, qy, qz, footprint, sand_r, sand_g, sand_b, lit,
+    seen_r, seen_g, seen_b, seen_t, seen_path, seen_illumination, under_r, under_g, under_b, count
   };
   std::vector<float> memory;
   float* a[count] = {};
@@ -235,6 +236,7 @@ struct Renderer::Impl {
   LinearRgb through_water_to(const SurfaceHit& h, LinearRgb albedo, const Vec3& p, const Vec3& d,
                              float illumination) const noexcept;
   void find_water_hits(Scratch& s) const noexcept;
+  void light_under_water(Scratch& s) const noexcept;
   bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
   float sun_path_in_water(const Vec3& p) const noexcept {
     return sun_water[2] > 0.0f ? std::max(0.0f, -p[2]) / sun_water[2] : 0.0f;
@@ -291,8 +293,7 @@ LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const
 /// (sea_illumination, or less in an object's shadow).
 LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept {
   if (quality.spectral_absorption) {
-    const LinearRgb sum = water->absorbed(object, distance + light_path) + water->sea_part(distance) * illumination;
-    return gamut_map_to_grey(sum);
+    return water->mix(object, distance, light_path, illumination);
   }
   const LinearRgb sea = water->sea_colour() * illumination;
   const float k[3] = {std::exp(-rgb_absorption[0] * distance), std::exp(-rgb_absorption[1] * distance),
@@ -366,13 +367,10 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
   const float offset = 1e-3f + 1e-4f * t;
   const SurfaceHit& under = s.under[i];
   if (status == MarchStatus::hit) {
-    const Vec3 tr{s.a[Scratch::tx][i], s.a[Scratch::ty][i], s.a[Scratch::tz][i]};
-    // In an object's shadow the sea loses the glint and the sun's share of its own light.
-    const bool lit = sunlit(p, n, offset);
+    const bool lit = s.a[Scratch::lit][i] > 0.0f;
     const LinearRgb reflected = trace_air(p, n, offset, air, t, sky_radiance(s, i));
-    const LinearRgb transmitted =
-        kr < 1.0f ? through_water_to(under, albedo(s, i, under), p, tr, lit ? sea_illumination : sea_shade_illumination)
-                  : LinearRgb{};
+    const LinearRgb transmitted = kr < 1.0f ? LinearRgb{s.a[Scratch::under_r][i], s.a[Scratch::under_g][i], s.a[Scratch::under_b][i]}
+                                            : LinearRgb{};
     // The sun's glint, widened by the slope variance of the octaves the LOD left out at this pixel.
     float glint = 0.0f;
     const Vec3 v{-d[0], -d[1], -d[2]};
@@ -435,6 +433,54 @@ void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
   }
 }
 
+/// For each sea hit seen from above, whether the sun reaches it (s.lit) and the light its refracted ray
+/// brings up (s.under_*: eq. 12 on what it meets, I_sea if nothing), the water's absorption a packet at
+/// a time.
+void Renderer::Impl::light_under_water(Scratch& s) const noexcept {
+  float* const* a = s.a;
+  for (std::size_t i = 0; i < width; ++i) {
+    a[Scratch::seen_r][i] = a[Scratch::seen_g][i] = a[Scratch::seen_b][i] = 0.0f;
+    a[Scratch::seen_t][i] = a[Scratch::seen_path][i] = a[Scratch::seen_illumination][i] = 0.0f;
+    if (!(a[Scratch::side][i] > 0.0f)) continue;
+    const Vec3 p{a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]};
+    const Vec3 n{a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]};
+    // In an object's shadow the sea loses the glint and the sun's share of its own light.
+    const bool lit = sunlit(p, n, 1e-3f + 1e-4f * a[Scratch::t][i]);
+    a[Scratch::lit][i] = lit ? 1.0f : 0.0f;
+    const SurfaceHit& h = s.under[i];
+    if (!(a[Scratch::kr][i] < 1.0f) || h.kind == HitKind::none) continue;
+    const Vec3 tr{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]};
+    const Vec3 q = along(p, tr, h.t);
+    const LinearRgb seen = lit_in_water(h, q, tr, albedo(s, i, h));
+    a[Scratch::seen_r][i] = seen.r;
+    a[Scratch::seen_g][i] = seen.g;
+    a[Scratch::seen_b][i] = seen.b;
+    a[Scratch::seen_t][i] = h.t;
+    a[Scratch::seen_path][i] = sun_path_in_water(q);
+    a[Scratch::seen_illumination][i] = lit ? sea_illumination : sea_shade_illumination;
+  }
+  if (quality.spectral_absorption) {
+    water->mix({a[Scratch::seen_r], a[Scratch::seen_g], a[Scratch::seen_b], a[Scratch::seen_t], a[Scratch::seen_path],
+                a[Scratch::seen_illumination]},
+               width, {a[Scratch::under_r], a[Scratch::under_g], a[Scratch::under_b]});
+  }
+  for (std::size_t i = 0; i < width; ++i) {
+    if (!(a[Scratch::side][i] > 0.0f)) continue;
+    LinearRgb c;
+    if (s.under[i].kind == HitKind::none) {
+      c = water->sea_colour() * (a[Scratch::lit][i] > 0.0f ? sea_illumination : sea_shade_illumination);
+    } else if (!quality.spectral_absorption) {
+      c = through_water({a[Scratch::seen_r][i], a[Scratch::seen_g][i], a[Scratch::seen_b][i]}, a[Scratch::seen_t][i],
+                        a[Scratch::seen_path][i], a[Scratch::seen_illumination][i]);
+    } else {
+      continue;
+    }
+    a[Scratch::under_r][i] = c.r;
+    a[Scratch::under_g][i] = c.g;
+    a[Scratch::under_b][i] = c.b;
+  }
+}
+
 void Renderer::Impl::shade_sample(Scratch& s) noexcept {
   const std::size_t w = width;
   float* const* a = s.a;
@@ -468,6 +514,7 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
     find_water_hits(s);
     detail::sand_albedo(sand, {a[Scratch::on_sand], a[Scratch::qx], a[Scratch::qy], a[Scratch::qz], a[Scratch::footprint]},
                         w, {a[Scratch::sand_r], a[Scratch::sand_g], a[Scratch::sand_b]});
+    light_under_water(s);
   }
   float* acc = s.accumulated.data();
   for (std::size_t i = 0; i < w; ++i) {

@@ -14,11 +14,6 @@
 
 namespace houle::detail {
 
-template <class A>
-struct Rgb {
-  simd::vfloat<A> r, g, b;
-};
-
 /// The sand at (x, y, z) for a dry reflectance `dry`: wet and darker (0.55 of the dry reflectance) under
 /// the water and up to wet_top above it, drying over the next metre; a grain of +-8 % (lattices of
 /// 2.3 m and 0.7 m) so a beach is not a flat plane, each lattice faded out as the pixel's footprint (m)
