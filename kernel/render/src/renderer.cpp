@@ -438,6 +438,7 @@ void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
 /// a time.
 void Renderer::Impl::light_under_water(Scratch& s) const noexcept {
   float* const* a = s.a;
+  std::size_t first = width, end = 0;  // the pixels whose refracted ray meets something
   for (std::size_t i = 0; i < width; ++i) {
     a[Scratch::seen_r][i] = a[Scratch::seen_g][i] = a[Scratch::seen_b][i] = 0.0f;
     a[Scratch::seen_t][i] = a[Scratch::seen_path][i] = a[Scratch::seen_illumination][i] = 0.0f;
@@ -458,11 +459,14 @@ void Renderer::Impl::light_under_water(Scratch& s) const noexcept {
     a[Scratch::seen_t][i] = h.t;
     a[Scratch::seen_path][i] = sun_path_in_water(q);
     a[Scratch::seen_illumination][i] = lit ? sea_illumination : sea_shade_illumination;
+    first = std::min(first, i);
+    end = i + 1;
   }
-  if (quality.spectral_absorption) {
-    water->mix({a[Scratch::seen_r], a[Scratch::seen_g], a[Scratch::seen_b], a[Scratch::seen_t], a[Scratch::seen_path],
-                a[Scratch::seen_illumination]},
-               width, {a[Scratch::under_r], a[Scratch::under_g], a[Scratch::under_b]});
+  if (quality.spectral_absorption && first < end) {
+    const auto from = [&](int array) { return a[array] + first; };
+    water->mix({from(Scratch::seen_r), from(Scratch::seen_g), from(Scratch::seen_b), from(Scratch::seen_t),
+                from(Scratch::seen_path), from(Scratch::seen_illumination)},
+               end - first, {from(Scratch::under_r), from(Scratch::under_g), from(Scratch::under_b)});
   }
   for (std::size_t i = 0; i < width; ++i) {
     if (!(a[Scratch::side][i] > 0.0f)) continue;
