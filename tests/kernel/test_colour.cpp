@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "houle/render/colour.hpp"
+#include "houle/runtime/isa.hpp"
 #include "test_vectors.hpp"
+#include "ulp.hpp"
 
 namespace {
 
@@ -304,6 +306,72 @@ TEST(WaterColour, RgbApproximationIsTheCheapOption) {
       EXPECT_LE(worst, 0.1);
     }
     lo = hi;
+  }
+}
+
+TEST(WaterColour, MixIsTheLightsPathAddedToTheView) {
+  // mix(o, d, s, e) = gamut_map(absorbed(o, d + s) + sea_part(d) e); transmitted is mix(o, d, 0, 1).
+  const houle::WaterColourLut lut = make_lut();
+  const LinearRgb o{0.7f, 0.5f, 0.2f};
+  for (float d : {0.0f, 0.5f, 3.0f, 40.0f}) {
+    for (float path : {0.0f, 2.0f}) {
+      const LinearRgb a = lut.absorbed(o, d + path), sea = lut.sea_part(d);
+      const LinearRgb want = houle::gamut_map_to_grey({a.r + sea.r * 0.8f, a.g + sea.g * 0.8f, a.b + sea.b * 0.8f});
+      EXPECT_EQ(max_abs_diff(lut.mix(o, d, path, 0.8f), want), 0.0) << d << " " << path;
+    }
+    EXPECT_EQ(max_abs_diff(lut.mix(o, d, 0.0f, 1.0f), lut.transmitted(o, d)), 0.0);
+  }
+  // The light's own path dims the object (its luminance; a channel can rise as the water takes the red
+  // and its negative share of blue in sRGB's matrix with it) and turns it towards blue.
+  const LinearRgb near = lut.mix(o, 1.0f, 0.0f, 0.0f), deep = lut.mix(o, 1.0f, 2.0f, 0.0f);
+  EXPECT_LT(houle::luminance(deep), houle::luminance(near));
+  EXPECT_LT(deep.r / deep.b, near.r / near.b);
+}
+
+TEST(WaterColour, BatchMixIsTheScalarMixOnEveryIsaIncludingTails) {
+  // Stated tolerance: the same bits (+, -, *, simd::div, exact conversions and gathers), but for ARMv7
+  // NEON, which flushes subnormals: 64 ulp or 1e-6 absolute, as in test_optics.cpp.
+  houle::WaterColourParams params;
+  params.cdom_absorption_440_per_m = 0.05;
+  const houle::WaterColourLut lut = make_lut(params);
+  std::mt19937 rng(37);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const auto tolerance = [](houle::Isa isa) -> std::int64_t { return isa == houle::Isa::neon ? 64 : 0; };
+  for (houle::Isa isa : houle::supported_isas()) {
+    std::int64_t worst = 0;
+    for (std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(3), std::size_t(7), std::size_t(16),
+                          std::size_t(17), std::size_t(8 * 5 + 3), std::size_t(8 * 37 + 3), std::size_t(16 * 20 + 3)}) {
+      // Colours of every channel order, ties and negative channels; distances from 0 to infinity, NaN
+      // and negative ones; illuminations from 0 to 2.
+      std::vector<float> in[6];
+      for (std::size_t k = 0; k < n; ++k) {
+        float c[3] = {u(rng) * 1.2f - 0.1f, u(rng), u(rng)};
+        if (k % 5 == 1) c[2] = c[0];
+        if (k % 7 == 2) c[1] = c[0] = c[2];
+        const float d = k % 11 == 3 ? std::numeric_limits<float>::infinity()
+                        : k % 13 == 4 ? std::numeric_limits<float>::quiet_NaN()
+                        : k % 17 == 5 ? -1.0f
+                                      : 100.0f * u(rng) * u(rng);
+        const float values[6] = {c[0], c[1], c[2], d, k % 3 == 0 ? 0.0f : 10.0f * u(rng), 2.0f * u(rng)};
+        for (int a = 0; a < 6; ++a) in[a].push_back(values[a]);
+      }
+      std::vector<float> out[3];
+      for (auto& v : out) v.assign(n, -7.0f);
+      lut.mix(isa, {in[0].data(), in[1].data(), in[2].data(), in[3].data(), in[4].data(), in[5].data()}, n,
+              {out[0].data(), out[1].data(), out[2].data()});
+      for (std::size_t k = 0; k < n; ++k) {
+        const LinearRgb want = lut.mix({in[0][k], in[1][k], in[2][k]}, in[3][k], in[4][k], in[5][k]);
+        const float w[3] = {want.r, want.g, want.b};
+        for (int a = 0; a < 3; ++a) {
+          if (!(std::fabs(w[a] - out[a][k]) <= (isa == houle::Isa::neon ? 1e-6f : 0.0f))) {
+            worst = std::max(worst, houle::test::ulp_distance(w[a], out[a][k]));
+          }
+        }
+      }
+    }
+    EXPECT_LE(worst, tolerance(isa)) << "ISA " << houle::isa_name(isa);
+    std::printf("water mix %s vs scalar: max %lld ulp (tolerance %lld)\n", houle::isa_name(isa).data(),
+                static_cast<long long>(worst), static_cast<long long>(tolerance(isa)));
   }
 }
 

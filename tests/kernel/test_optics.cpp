@@ -264,4 +264,169 @@ TEST(ReflectRefract, EveryIsaMatchesScalarIncludingTails) {
   }
 }
 
+// Rows as the renderer's shading sees them: sea hits from above and below and no hit, gradients up
+// to steep, rays looking every way (some away from the normal, which bends it).
+struct SeaRow {
+  std::vector<float> side, gx, gy, dx, dy, dz;
+};
+SeaRow random_sea_row(std::mt19937& rng, std::size_t n) {
+  SeaRow r;
+  std::uniform_int_distribution<int> side(-1, 1);
+  std::normal_distribution<float> slope(0.0f, 0.6f);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto d = random_unit(rng);
+    r.side.push_back(float(side(rng)));
+    r.gx.push_back(k % 7 == 3 ? 0.0f : slope(rng));
+    r.gy.push_back(k % 5 == 1 ? -0.0f : slope(rng));
+    r.dx.push_back(d[0]);
+    r.dy.push_back(d[1]);
+    r.dz.push_back(d[2]);
+  }
+  return r;
+}
+
+// The stated tolerance of the row kernels against the scalar path over the given arrays: optics_ulp_tolerance.
+std::int64_t worst_ulp(houle::Isa isa, const std::vector<std::vector<float>>& ref, const std::vector<std::vector<float>>& got) {
+  std::int64_t worst = 0;
+  for (std::size_t a = 0; a < ref.size(); ++a) {
+    for (std::size_t k = 0; k < ref[a].size(); ++k) {
+      if (std::fabs(ref[a][k] - got[a][k]) > simd_abs_tolerance(isa) || std::isnan(got[a][k])) {
+        worst = std::max(worst, houle::test::ulp_distance(ref[a][k], got[a][k]));
+      }
+    }
+  }
+  return worst;
+}
+
+void expect_within_tolerance(const char* kernel, houle::Isa isa, std::int64_t worst) {
+  EXPECT_LE(worst, optics_ulp_tolerance(isa)) << kernel << " on " << houle::isa_name(isa);
+  std::printf("%s %s vs scalar: max %lld ulp (tolerance %lld)\n", kernel, houle::isa_name(isa).data(),
+              static_cast<long long>(worst), static_cast<long long>(optics_ulp_tolerance(isa)));
+}
+
+TEST(SeaNormals, UnitBentTowardsTheRayAndUpWithoutAHit) {
+  std::mt19937 rng(41);
+  const std::size_t n = 8 * 50 + 3;
+  const SeaRow row = random_sea_row(rng, n);
+  std::vector<float> nx(n), ny(n), nz(n);
+  houle::sea_normals({row.side.data(), row.gx.data(), row.gy.data(), row.dx.data(), row.dy.data(), row.dz.data()}, n,
+                     {nx.data(), ny.data(), nz.data()});
+  int bent = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec nn{nx[k], ny[k], nz[k]}, d{row.dx[k], row.dy[k], row.dz[k]};
+    if (row.side[k] == 0.0f) {
+      EXPECT_EQ(nn, (Vec{0.0, 0.0, 1.0}));
+      continue;
+    }
+    EXPECT_NEAR(norm(nn), 1.0, 1e-6);
+    // The ray meets the normal head on from above (N.d < 0), the other way from below: where the
+    // plain normal does not, it is bent to N.d = -0.01 (+0.01) along d and renormalised.
+    const double nd = dot(nn, d), want = row.side[k] > 0.0f ? -0.01 : 0.01;
+    EXPECT_LT(row.side[k] > 0.0f ? nd : -nd, 0.0);
+    const Vec plain{-row.gx[k] / norm({row.gx[k], row.gy[k], 1.0}), -row.gy[k] / norm({row.gx[k], row.gy[k], 1.0}),
+                    1.0 / norm({row.gx[k], row.gy[k], 1.0})};
+    const double plain_nd = dot(plain, d);
+    Vec expect = plain;
+    if (row.side[k] > 0.0f ? plain_nd > want : plain_nd < want) {
+      ++bent;
+      for (int a = 0; a < 3; ++a) expect[a] = plain[a] - (plain_nd - want) * d[a];
+      const double len = norm(expect);
+      for (double& c : expect) c /= len;
+    }
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(nn[a], expect[a], 1e-5);
+  }
+  EXPECT_GT(bent, 20);  // the rows do exercise the bend
+}
+
+TEST(SeaNormals, EveryIsaMatchesScalarIncludingTails) {
+  std::mt19937 rng(42);
+  for (houle::Isa isa : houle::supported_isas()) {
+    if (isa == houle::Isa::scalar) continue;
+    std::int64_t worst = 0;
+    for (std::size_t n : sizes) {
+      const SeaRow row = random_sea_row(rng, n);
+      std::vector<std::vector<float>> ref(3, std::vector<float>(n, -7.0f)), got = ref;
+      const houle::SeaNormalsInput in{row.side.data(), row.gx.data(), row.gy.data(), row.dx.data(), row.dy.data(), row.dz.data()};
+      houle::sea_normals(houle::Isa::scalar, in, n, {ref[0].data(), ref[1].data(), ref[2].data()});
+      houle::sea_normals(isa, in, n, {got[0].data(), got[1].data(), got[2].data()});
+      worst = std::max(worst, worst_ulp(isa, ref, got));
+    }
+    expect_within_tolerance("sea_normals", isa, worst);
+  }
+}
+
+// Reflected and refracted rays of random rows, with rays grazing or below the horizon and straight down.
+struct AirRow {
+  SeaRow sea;
+  std::vector<float> r[3], t[3];
+};
+AirRow random_air_row(std::mt19937& rng, std::size_t n) {
+  AirRow row{random_sea_row(rng, n), {}, {}};
+  std::uniform_real_distribution<float> low(-0.05f, 0.05f);
+  for (std::size_t k = 0; k < n; ++k) {
+    auto r = random_unit(rng), t = random_unit(rng);
+    if (k % 4 == 1) r = {r[0], r[1], low(rng)};  // near the horizon, not unit: renormalised all the same
+    if (k % 9 == 2) r = {0.0f, 0.0f, -1.0f};
+    if (k % 11 == 5) t = {0.0f, 0.0f, 0.0f};  // total internal reflection
+    for (int a = 0; a < 3; ++a) row.r[a].push_back(r[a]), row.t[a].push_back(t[a]);
+  }
+  return row;
+}
+houle::AirDirectionsInput air_input(const AirRow& row) {
+  return {row.sea.side.data(), row.sea.dx.data(), row.sea.dy.data(), row.sea.dz.data(), row.r[0].data(),
+          row.r[1].data(),     row.r[2].data(),   row.t[0].data(),   row.t[1].data(),   row.t[2].data()};
+}
+
+TEST(AirDirections, ReflectedAboveRefractedBelowLiftedOverTheHorizon) {
+  std::mt19937 rng(43);
+  const std::size_t n = 8 * 50 + 3;
+  constexpr float min_dz = 0.01f;
+  const AirRow row = random_air_row(rng, n);
+  std::vector<float> x(n), y(n), z(n);
+  houle::air_directions(air_input(row), n, min_dz, {x.data(), y.data(), z.data()});
+  int lifted = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const float side = row.sea.side[k];
+    const Vec got{x[k], y[k], z[k]};
+    const std::vector<float>* src = side > 0.0f ? row.r : side < 0.0f ? row.t : nullptr;
+    if (src == nullptr) {
+      EXPECT_EQ(got, (Vec{row.sea.dx[k], row.sea.dy[k], row.sea.dz[k]}));
+      continue;
+    }
+    const Vec v{src[0][k], src[1][k], src[2][k]};
+    if (v[2] >= min_dz) {
+      EXPECT_EQ(got, v);
+      continue;
+    }
+    ++lifted;
+    const double h = std::hypot(v[0], v[1]);
+    if (h == 0.0) {
+      EXPECT_EQ(got, (Vec{0.0, 0.0, 1.0}));  // straight down (or no ray): straight up
+      continue;
+    }
+    // The same azimuth, z = min_dz, unit.
+    EXPECT_FLOAT_EQ(float(got[2]), min_dz);
+    EXPECT_NEAR(norm(got), 1.0, 1e-6);
+    EXPECT_NEAR(got[0] * v[1] - got[1] * v[0], 0.0, 1e-6);
+    EXPECT_GT(got[0] * v[0] + got[1] * v[1], 0.0);
+  }
+  EXPECT_GT(lifted, 50);
+}
+
+TEST(AirDirections, EveryIsaMatchesScalarIncludingTails) {
+  std::mt19937 rng(44);
+  for (houle::Isa isa : houle::supported_isas()) {
+    if (isa == houle::Isa::scalar) continue;
+    std::int64_t worst = 0;
+    for (std::size_t n : sizes) {
+      const AirRow row = random_air_row(rng, n);
+      std::vector<std::vector<float>> ref(3, std::vector<float>(n, -7.0f)), got = ref;
+      houle::air_directions(houle::Isa::scalar, air_input(row), n, 0.01f, {ref[0].data(), ref[1].data(), ref[2].data()});
+      houle::air_directions(isa, air_input(row), n, 0.01f, {got[0].data(), got[1].data(), got[2].data()});
+      worst = std::max(worst, worst_ulp(isa, ref, got));
+    }
+    expect_within_tolerance("air_directions", isa, worst);
+  }
+}
+
 }  // namespace

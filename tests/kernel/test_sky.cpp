@@ -7,6 +7,7 @@
 #include <fstream>
 #include <numbers>
 #include <random>
+#include <utility>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -14,8 +15,10 @@
 #include "houle/render/colour.hpp"
 #include "houle/render/optics.hpp"
 #include "houle/render/sky.hpp"
+#include "houle/runtime/isa.hpp"
 #include "angles.hpp"
 #include "test_vectors.hpp"
+#include "ulp.hpp"
 
 namespace {
 
@@ -142,6 +145,51 @@ TEST(SkyLut, BelowTheHorizonAndAcrossTheSeam) {
     const houle::LinearRgb c = lut.lookup(direction(th, pi - 1e-4)), d = lut.lookup(direction(th, pi + 1e-4));
     EXPECT_NEAR(a.g, b.g, 1e-3 * houle::luminance(a));
     EXPECT_NEAR(c.g, d.g, 1e-3 * houle::luminance(c));
+  }
+}
+
+TEST(SkyLut, BatchLookupIsTheScalarLookupOnEveryIsaIncludingTails) {
+  // Stated tolerance: the same bits (the lookup uses +, -, *, simd::div, simd::sqrt, exact conversions
+  // and gathers), but for ARMv7 NEON, which flushes subnormals and so may differ by a few ulp.
+  houle::SkyLut lut;
+  lut.bake(make_sky(3.0, 50.0, 30.0));
+  std::mt19937 rng(17);
+  std::normal_distribution<float> g;
+  const auto tolerance = [](houle::Isa isa) -> std::int64_t { return isa == houle::Isa::neon ? 64 : 0; };
+  for (houle::Isa isa : houle::supported_isas()) {
+    std::int64_t worst = 0;
+    for (std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(3), std::size_t(7), std::size_t(16),
+                          std::size_t(17), std::size_t(8 * 5 + 3), std::size_t(8 * 37 + 3), std::size_t(16 * 20 + 3)}) {
+      std::vector<float> x(n), y(n), z(n);
+      for (std::size_t k = 0; k < n; ++k) {
+        std::array<float, 3> v{g(rng), g(rng), g(rng)};
+        // Every few: the axes, the seam, the zenith, straight down, zero and NaN (which reads texel 0).
+        switch (k % 13) {
+          case 2: v = {1.0f, 0.0f, 0.0f}; break;
+          case 4: v = {-1.0f, -0.0f, 0.0f}; break;
+          case 5: v = {0.0f, 0.0f, 1.0f}; break;
+          case 7: v = {0.0f, 0.0f, -1.0f}; break;
+          case 8: v = {0.0f, 0.0f, 0.0f}; break;
+          case 10: v = {std::nanf(""), 0.5f, std::nanf("")}; break;
+          default: break;
+        }
+        const float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if (len > 0.0f && k % 13 != 10) v = {v[0] / len, v[1] / len, v[2] / len};
+        x[k] = v[0], y[k] = v[1], z[k] = v[2];
+      }
+      std::vector<float> r(n, -7.0f), gr(n, -7.0f), b(n, -7.0f);
+      lut.lookup(isa, x.data(), y.data(), z.data(), n, r.data(), gr.data(), b.data());
+      for (std::size_t k = 0; k < n; ++k) {
+        const houle::LinearRgb want = lut.lookup({x[k], y[k], z[k]});
+        ASSERT_TRUE(std::isfinite(r[k]) && std::isfinite(gr[k]) && std::isfinite(b[k])) << k;
+        for (const auto& [w, got] : {std::pair{want.r, r[k]}, std::pair{want.g, gr[k]}, std::pair{want.b, b[k]}}) {
+          worst = std::max(worst, houle::test::ulp_distance(w, got));
+        }
+      }
+    }
+    EXPECT_LE(worst, tolerance(isa)) << "ISA " << houle::isa_name(isa);
+    std::printf("sky lookup %s vs scalar: max %lld ulp (tolerance %lld)\n", houle::isa_name(isa).data(),
+                static_cast<long long>(worst), static_cast<long long>(tolerance(isa)));
   }
 }
 

@@ -4,7 +4,10 @@
 #include <cmath>
 #include <iterator>
 
+#include "colour_impl.hpp"
 #include "houle/runtime/assert.hpp"
+#include "houle/simd/dispatch.hpp"
+#include "render_table.hpp"
 
 namespace houle {
 namespace {
@@ -149,10 +152,7 @@ const Spectrum& d65_unit() {
   return e;
 }
 
-constexpr double luminance_row[3] = {0.2126390, 0.7151687, 0.0721923};
-[[gnu::always_inline]] inline float luminance_of(LinearRgb c) {
-  return float(luminance_row[0]) * c.r + float(luminance_row[1]) * c.g + float(luminance_row[2]) * c.b;
-}
+float luminance_of(LinearRgb c) { return detail::luminance_of<simd::scalar>({c.r, c.g, c.b}); }
 
 /// Grey mixing of docs/rendering.md 4.2, in double: the fraction t of grey (Y, Y, Y) to mix in.
 double grey_fraction(const Vec3d& rgb, double y) {
@@ -201,18 +201,9 @@ std::uint8_t srgb_encode_u8(float linear) noexcept {
 }
 
 namespace {
-[[gnu::always_inline]] inline LinearRgb grey_mapped(LinearRgb c) {
-  // Mix c + t (Y - c) with t = -lo / (Y - lo) when the smallest channel lo is negative; t = 0 (c
-  // unchanged) when it is not; t = 1 (black) when Y <= 0. Without branches: whether the sum of the
-  // water terms leaves the gamut changes from pixel to pixel.
-  const float lo = std::min({c.r, c.g, c.b});
-  const float y = luminance_of(c);
-  const float neg = std::max(-lo, 0.0f);
-  const float t = std::min(neg / std::max(y + neg, 1e-30f), 1.0f);
-  const float grey = std::max(y, 0.0f);
-  // The smallest channel comes out 0 up to rounding; never let it be negative.
-  return {std::max(c.r + t * (grey - c.r), 0.0f), std::max(c.g + t * (grey - c.g), 0.0f),
-          std::max(c.b + t * (grey - c.b), 0.0f)};
+LinearRgb grey_mapped(LinearRgb c) {
+  const auto m = detail::grey_mapped<simd::scalar>({c.r, c.g, c.b});
+  return {m.r, m.g, m.b};
 }
 }  // namespace
 
@@ -220,32 +211,8 @@ LinearRgb gamut_map_to_grey(LinearRgb c) noexcept { return grey_mapped(c); }
 
 // ---- Smits ----
 
-namespace {
-/// Smits' weights with the basis as a table column (white 0, cyan..yellow 1-3, red..blue 4-6): the
-/// per-pixel form, small enough to inline into the LUT lookups.
-struct BasisWeights {
-  float white, secondary, primary;
-  int secondary_column, primary_column;
-};
-[[gnu::always_inline]] inline BasisWeights basis_weights(LinearRgb c) {
-  const float r = std::max(c.r, 0.0f), g = std::max(c.g, 0.0f), b = std::max(c.b, 0.0f);
-  // Smits 1999 (docs/rendering.md 4.1) in sorted form: the smallest channel is white; the middle one's excess
-  // over it goes to the secondary lacking the smallest channel (cyan lacks red, ...), the largest one's
-  // excess over the middle to its primary. Written without data-dependent branches: colours along a
-  // row of pixels change order unpredictably.
-  const float lo = std::min(std::min(r, g), b), hi = std::max(std::max(r, g), b);
-  const float mid = std::max(std::min(r, g), std::min(std::max(r, g), b));  // exact median
-  // Which channel is smallest (0 r, 1 g, 2 b; ties to the first) and largest (ties to the last), in
-  // integer arithmetic on comparison results: gcc turns the equivalent ?: chains into branches.
-  const int r_lo = int(r <= g) & int(r <= b), b_hi = int(b >= r) & int(b >= g);
-  const int arg_lo = (1 - r_lo) * (2 - int(g <= b));
-  const int arg_hi = 2 * b_hi + (1 - b_hi) * int(g >= r);
-  return {lo, mid - lo, hi - mid, 1 + arg_lo, 4 + arg_hi};
-}
-}  // namespace
-
 SmitsWeights smits_weights(LinearRgb c) noexcept {
-  const BasisWeights w = basis_weights(c);
+  const auto w = detail::smits_lanes<simd::scalar>({c.r, c.g, c.b});
   return {w.white, SmitsBasis(w.secondary_column), w.secondary, SmitsBasis(w.primary_column), w.primary};
 }
 
@@ -410,46 +377,51 @@ Expected<WaterColourLut> WaterColourLut::make(const WaterColourParams& p) {
   return lut;
 }
 
-// Inlined into the lookups below (the only callers): a call per pixel cost more than the lookup.
-[[gnu::always_inline]] inline WaterColourLut::Position WaterColourLut::position(float distance_m) const noexcept {
-  // u = d / (d + d_half), written so that d = +infinity gives 1 and NaN or d < 0 give 0.
-  const float d = distance_m > 0.0f ? distance_m : 0.0f;
-  const float u = 1.0f - half_distance_m_ / (d + half_distance_m_);
-  const float x = u * float(entries_ - 1);
-  const int i = std::min(int(x), entries_ - 2);
-  return {&table_[std::size_t(i) * row_floats], x - float(i)};
+detail::WaterTable WaterColourLut::table() const noexcept {
+  static_assert(row_floats == detail::water_row_floats);
+  return {table_.data(), entries_, half_distance_m_};
 }
 
 namespace {
-[[gnu::always_inline]] inline LinearRgb lerp_rgb(const float* lo, int column, float t) {
-  const float* a = lo + 3 * column;
-  const float* b = a + (smits_basis_count + 1) * 3;
-  return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
-}
-[[gnu::always_inline]] inline LinearRgb absorbed_at(const float* lo, float t, LinearRgb object) {
-  const BasisWeights w = basis_weights(object);
-  const LinearRgb lw = lerp_rgb(lo, 0, t), ls = lerp_rgb(lo, w.secondary_column, t),
-                  lp = lerp_rgb(lo, w.primary_column, t);
-  return {w.white * lw.r + w.secondary * ls.r + w.primary * lp.r,
-          w.white * lw.g + w.secondary * ls.g + w.primary * lp.g,
-          w.white * lw.b + w.secondary * ls.b + w.primary * lp.b};
-}
+LinearRgb rgb(const detail::Rgb<simd::scalar>& c) { return {c.r, c.g, c.b}; }
 }  // namespace
 
 LinearRgb WaterColourLut::absorbed(LinearRgb object, float distance_m) const noexcept {
-  const Position p = position(distance_m);
-  return absorbed_at(p.lo, p.t, object);
+  const detail::WaterTable w = table();
+  return rgb(detail::water_absorbed<simd::scalar>(w, detail::water_position<simd::scalar>(w, distance_m),
+                                                  {object.r, object.g, object.b}));
 }
 
 LinearRgb WaterColourLut::sea_part(float distance_m) const noexcept {
-  const Position p = position(distance_m);
-  return lerp_rgb(p.lo, smits_basis_count, p.t);
+  const detail::WaterTable w = table();
+  return rgb(detail::water_sea_part<simd::scalar>(w, detail::water_position<simd::scalar>(w, distance_m)));
 }
 
 LinearRgb WaterColourLut::transmitted(LinearRgb object, float distance_m) const noexcept {
-  const Position p = position(distance_m);
-  const LinearRgb a = absorbed_at(p.lo, p.t, object), sea = lerp_rgb(p.lo, smits_basis_count, p.t);
-  return grey_mapped({a.r + sea.r, a.g + sea.g, a.b + sea.b});
+  return mix(object, distance_m, 0.0f, 1.0f);
+}
+
+LinearRgb WaterColourLut::mix(LinearRgb object, float distance_m, float light_path_m, float illumination) const noexcept {
+  return rgb(detail::water_mix<simd::scalar>(table(), {object.r, object.g, object.b}, distance_m, light_path_m, illumination));
+}
+
+namespace {
+void check_mix(const WaterMixInput& in, std::size_t n, const WaterMixOutput& out) noexcept {
+  HOULE_ASSERT(n == 0 || (in.r != nullptr && in.g != nullptr && in.b != nullptr && in.distance_m != nullptr &&
+                          in.light_path_m != nullptr && in.illumination != nullptr && out.r != nullptr &&
+                          out.g != nullptr && out.b != nullptr),
+               "WaterColourLut::mix: n floats in every array");
+}
+}  // namespace
+
+void WaterColourLut::mix(const WaterMixInput& in, std::size_t n, WaterMixOutput out) const noexcept {
+  check_mix(in, n, out);
+  simd::active_table<detail::RenderTable>().water_mix_batch(table(), in, n, out);
+}
+
+void WaterColourLut::mix(Isa isa, const WaterMixInput& in, std::size_t n, WaterMixOutput out) const noexcept {
+  check_mix(in, n, out);
+  simd::table_for<detail::RenderTable>(isa).water_mix_batch(table(), in, n, out);
 }
 
 LinearRgb WaterColourLut::transmitted_rgb_approx(LinearRgb object, float distance_m) const noexcept {

@@ -24,6 +24,19 @@ void check_reflect_refract(const ReflectRefractInput& in, std::size_t n, const R
                           out.ty != nullptr && out.tz != nullptr && out.reflectance != nullptr),
                "reflect_refract: n floats in every output array");
 }
+void check_sea_normals(const SeaNormalsInput& in, std::size_t n, const SeaNormalsOutput& out) noexcept {
+  HOULE_ASSERT(n == 0 || (in.side != nullptr && in.gx != nullptr && in.gy != nullptr && in.dx != nullptr &&
+                          in.dy != nullptr && in.dz != nullptr && out.nx != nullptr && out.ny != nullptr &&
+                          out.nz != nullptr),
+               "sea_normals: n floats in every array");
+}
+void check_air_directions(const AirDirectionsInput& in, std::size_t n, const AirDirectionsOutput& out) noexcept {
+  HOULE_ASSERT(n == 0 || (in.side != nullptr && in.dx != nullptr && in.dy != nullptr && in.dz != nullptr &&
+                          in.rx != nullptr && in.ry != nullptr && in.rz != nullptr && in.tx != nullptr &&
+                          in.ty != nullptr && in.tz != nullptr && out.x != nullptr && out.y != nullptr &&
+                          out.z != nullptr),
+               "air_directions: n floats in every array");
+}
 }  // namespace
 
 void fresnel_reflectance(const float* cos_i, float eta, float* reflectance, std::size_t n) noexcept {
@@ -61,6 +74,26 @@ void reflect_refract(Isa isa, const ReflectRefractInput& in, std::size_t n, floa
                      ReflectRefractOutput out) noexcept {
   check_reflect_refract(in, n, out);
   simd::table_for<detail::RenderTable>(isa).reflect_refract_batch(in, n, n_outside, n_inside, out);
+}
+
+void sea_normals(const SeaNormalsInput& in, std::size_t n, SeaNormalsOutput out) noexcept {
+  check_sea_normals(in, n, out);
+  simd::active_table<detail::RenderTable>().sea_normals_batch(in, n, out);
+}
+
+void sea_normals(Isa isa, const SeaNormalsInput& in, std::size_t n, SeaNormalsOutput out) noexcept {
+  check_sea_normals(in, n, out);
+  simd::table_for<detail::RenderTable>(isa).sea_normals_batch(in, n, out);
+}
+
+void air_directions(const AirDirectionsInput& in, std::size_t n, float min_dz, AirDirectionsOutput out) noexcept {
+  check_air_directions(in, n, out);
+  simd::active_table<detail::RenderTable>().air_directions_batch(in, n, min_dz, out);
+}
+
+void air_directions(Isa isa, const AirDirectionsInput& in, std::size_t n, float min_dz, AirDirectionsOutput out) noexcept {
+  check_air_directions(in, n, out);
+  simd::table_for<detail::RenderTable>(isa).air_directions_batch(in, n, min_dz, out);
 }
 
 }  // namespace houle

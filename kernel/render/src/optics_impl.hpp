@@ -88,6 +88,52 @@ inline InterfaceRays<A> interface_rays(simd::vfloat<A> ix, simd::vfloat<A> iy, s
   return out;
 }
 
+template <class A>
+struct Direction {
+  simd::vfloat<A> x, y, z;
+};
+
+/// (x, y, z) / |(x, y, z)|, divided once.
+template <class A>
+inline Direction<A> normalized(simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> z) {
+  using V = simd::vfloat<A>;
+  const V inv = simd::div(V(1.0f), simd::sqrt(x * x + y * y + z * z));
+  return {x * inv, y * inv, z * inv};
+}
+
+/// docs/rendering.md 3.3 (a): the eq. 8 normal of a height field of gradient (gx, gy), met by the unit
+/// ray d from above (side > 0) or below (side < 0), bent where it faces away from the ray until
+/// N.d = -0.01 (from below +0.01) and renormalised; (0, 0, 1) where side is 0 (no sea hit).
+template <class A>
+inline Direction<A> sea_normal(simd::vfloat<A> side, simd::vfloat<A> gx, simd::vfloat<A> gy, simd::vfloat<A> dx,
+                               simd::vfloat<A> dy, simd::vfloat<A> dz) {
+  using V = simd::vfloat<A>;
+  const auto above = side > V(0.0f), below = side < V(0.0f);
+  const Direction<A> n = normalized<A>(-gx, -gy, V(1.0f));
+  const V want = simd::select(above, V(-0.01f), V(0.01f));
+  const V nd = n.x * dx + n.y * dy + n.z * dz;
+  const auto bend = (above & (nd > want)) | (below & (nd < want));
+  const V k = nd - want;
+  const Direction<A> b = normalized<A>(n.x - k * dx, n.y - k * dy, n.z - k * dz);
+  const auto sea = above | below;
+  return {simd::select(sea, simd::select(bend, b.x, n.x), V(0.0f)), simd::select(sea, simd::select(bend, b.y, n.y), V(0.0f)),
+          simd::select(sea, simd::select(bend, b.z, n.z), V(1.0f))};
+}
+
+/// docs/rendering.md 3.3 (b): a unit direction that must leave the sea upwards, its z raised to at least
+/// min_dz and renormalised ((0, 0, 1) for one straight down).
+template <class A>
+inline Direction<A> lifted(simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> z, float min_dz) {
+  using V = simd::vfloat<A>;
+  const auto keep = z >= V(min_dz);
+  const V h2 = x * x + y * y;
+  const auto level = h2 > V(0.0f);
+  const V k = simd::select(level, simd::sqrt(simd::div(V(1.0f - min_dz * min_dz), simd::select(level, h2, V(1.0f)))),
+                           V(0.0f));
+  return {simd::select(keep, x, x * k), simd::select(keep, y, y * k),
+          simd::select(keep, z, simd::select(level, V(min_dz), V(1.0f)))};
+}
+
 // Batch loops over any n (simd::for_batches). Padding lanes of the tail get a harmless input.
 
 template <class A>
@@ -112,6 +158,32 @@ void reflect_refract_batch(const ReflectRefractInput& in, std::size_t n, float n
     b.store(out.ty, r.ty);
     b.store(out.tz, r.tz);
     b.store(out.reflectance, r.reflectance);
+  });
+}
+
+template <class A>
+void sea_normals_batch(const SeaNormalsInput& in, std::size_t n, SeaNormalsOutput out) noexcept {
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    const Direction<A> v = sea_normal<A>(b.load(in.side), b.load(in.gx), b.load(in.gy), b.load(in.dx), b.load(in.dy),
+                                         b.load(in.dz, -1.0f));
+    b.store(out.nx, v.x);
+    b.store(out.ny, v.y);
+    b.store(out.nz, v.z);
+  });
+}
+
+template <class A>
+void air_directions_batch(const AirDirectionsInput& in, std::size_t n, float min_dz, AirDirectionsOutput out) noexcept {
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    using V = simd::vfloat<A>;
+    const V side = b.load(in.side);
+    const auto above = side > V(0.0f), below = side < V(0.0f);
+    // Padding lanes: straight up.
+    const Direction<A> r = lifted<A>(b.load(in.rx), b.load(in.ry), b.load(in.rz, 1.0f), min_dz);
+    const Direction<A> t = lifted<A>(b.load(in.tx), b.load(in.ty), b.load(in.tz, 1.0f), min_dz);
+    b.store(out.x, simd::select(above, r.x, simd::select(below, t.x, b.load(in.dx))));
+    b.store(out.y, simd::select(above, r.y, simd::select(below, t.y, b.load(in.dy))));
+    b.store(out.z, simd::select(above, r.z, simd::select(below, t.z, b.load(in.dz, 1.0f))));
   });
 }
 

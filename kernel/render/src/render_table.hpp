@@ -2,13 +2,23 @@
 #pragma once
 #include <cstddef>
 
+#include "colour_impl.hpp"
+#include "foam.hpp"
 #include "houle/render/optics.hpp"
+#include "sand.hpp"
 
 namespace houle::detail {
 
 struct RenderTable {
   void (*fresnel_batch)(const float*, float, float*, std::size_t) noexcept;
   void (*reflect_refract_batch)(const ReflectRefractInput&, std::size_t, float, float, ReflectRefractOutput) noexcept;
+  void (*sea_normals_batch)(const SeaNormalsInput&, std::size_t, SeaNormalsOutput) noexcept;
+  void (*air_directions_batch)(const AirDirectionsInput&, std::size_t, float, AirDirectionsOutput) noexcept;
+  void (*sky_lookup_batch)(const float* texels, const float*, const float*, const float*, std::size_t, float*, float*,
+                           float*) noexcept;
+  void (*foam_cover_batch)(const SurfView&, const FoamInput&, std::size_t, float, float*) noexcept;
+  void (*water_mix_batch)(const WaterTable&, const WaterMixInput&, std::size_t, WaterMixOutput) noexcept;
+  void (*sand_albedo_batch)(const LinearRgb&, const SandInput&, std::size_t, SandOutput) noexcept;
 };
 
 }  // namespace houle::detail

@@ -13,6 +13,9 @@
 #include "houle/render/sky.hpp"
 #include "houle/runtime/assert.hpp"
 #include "houle/runtime/thread_pool.hpp"
+#include "foam.hpp"
+#include "sand.hpp"
+#include "sand_impl.hpp"
 #include "scene_objects.hpp"
 #include "shadow_mask.hpp"
 
@@ -123,88 +126,21 @@ LinearRgb sky_irradiance_klx(const PreethamSky& sky) {
   return {float(e[0]), float(e[1]), float(e[2])};
 }
 
-/// Value noise in [-1, 1] on the unit lattice (a hash per lattice point, smoothstep between): the
-/// same bits on every machine (integer hashing, floor and products only).
-float lattice_noise(float x, float y) {
-  const float fx = std::floor(x), fy = std::floor(y);
-  const auto value = [](std::int32_t i, std::int32_t j) {
-    std::uint32_t h = std::uint32_t(i) * 0x8da6b343u ^ std::uint32_t(j) * 0xd8163841u;
-    h = (h ^ (h >> 15)) * 0x2c1b3c6du;
-    h ^= h >> 12;
-    return float(h & 0xffffu) * (2.0f / 65535.0f) - 1.0f;
-  };
-  const auto i = std::int32_t(fx), j = std::int32_t(fy);
-  float u = x - fx, v = y - fy;
-  u = u * u * (3.0f - 2.0f * u);
-  v = v * v * (3.0f - 2.0f * v);
-  const float a = value(i, j) + u * (value(i + 1, j) - value(i, j));
-  const float b = value(i, j + 1) + u * (value(i + 1, j + 1) - value(i, j + 1));
-  return a + v * (b - a);
-}
-
-/// The sand at p (docs/rendering.md 3.6): wet and darker (0.55 of the dry reflectance) under the
-/// water and up to wet_top above it, drying over the next metre; a grain of +-8 % (lattices of 2.3 m
-/// and 0.7 m) so a beach is not a flat plane, each lattice faded out as the pixel's footprint (m)
-/// reaches a quarter of its spacing: finer it would alias into speckle.
-LinearRgb sand_at(LinearRgb dry, const Vec3& p, float footprint) {
-  constexpr float wet_top = 0.3f, drying = 1.0f, wet = 0.55f;
-  const float u = std::clamp((p[2] - wet_top) / drying, 0.0f, 1.0f);
-  const float dryness = u * u * (3.0f - 2.0f * u);
-  const float x = std::clamp(p[0], -1e6f, 1e6f), y = std::clamp(p[1], -1e6f, 1e6f);
-  const auto fade = [&](float spacing) { return std::clamp(2.0f - footprint * 8.0f / spacing, 0.0f, 1.0f); };
-  // A lattice faded out adds (+-)0 whatever its noise: the noise is not evaluated there (the same bits).
-  const float coarse = fade(2.3f), fine = fade(0.7f);
-  const float grain = 1.0f + (coarse > 0.0f ? 0.05f * coarse * lattice_noise(x * 0.43f, y * 0.43f) : 0.0f) +
-                      (fine > 0.0f ? 0.03f * fine * lattice_noise(x * 1.4f + 17.0f, y * 1.4f) : 0.0f);
-  const float k = (wet + (1.0f - wet) * dryness) * grain;
-  return {std::min(dry.r * k, 1.0f), std::min(dry.g * k, 1.0f), std::min(dry.b * k, 1.0f)};
-}
-
-/// The surf map as the renderer reads it, packed once per scene: a node's four fields side by side, so
-/// that a pixel's bilinear lookup touches two cache lines, not eight (the map of the built-in coast is
-/// a few MB, beyond the caches, and 80 % of its sea pixels read it).
-struct PackedSurf {
-  float origin_x = 0.0f, origin_y = 0.0f, cell = 1.0f;  ///< m
-  std::uint32_t nx = 0, ny = 0;
-  std::vector<std::array<float, 4>> nodes;  ///< foam, dir_x, dir_y, amplitude
-};
-PackedSurf pack(const SurfMap& m) {
-  std::vector<std::array<float, 4>> nodes;
-  nodes.reserve(m.foam.size());
-  for (std::size_t n = 0; n < m.foam.size(); ++n) nodes.push_back({m.foam[n], m.dir_x[n], m.dir_y[n], m.amplitude[n]});
-  return {m.origin_x, m.origin_y, m.cell, m.nx, m.ny, std::move(nodes)};
-}
-
-/// The surf map's fields at (x, y), bilinear; all 0 outside the map.
-struct SurfSample {
-  float foam = 0.0f, dir_x = 0.0f, dir_y = 0.0f, amplitude = 0.0f;
-};
-SurfSample surf_at(const PackedSurf& m, float x, float y) {
-  const float u = (x - m.origin_x) / m.cell, v = (y - m.origin_y) / m.cell;
-  if (!(u >= 0.0f && v >= 0.0f && u < float(m.nx - 1) && v < float(m.ny - 1))) return {};  // NaN too
-  const auto i = std::size_t(u), j = std::size_t(v);
-  const float a = u - float(i), b = v - float(j);
-  const std::array<float, 4>* row = m.nodes.data() + j * m.nx + i;
-  const std::array<float, 4>&n00 = row[0], &n10 = row[1], &n01 = row[m.nx], &n11 = row[m.nx + 1];
-  // Four foam nodes at 0 interpolate to 0, foam_cover's answer with no foam.
-  if (n00[0] == 0.0f && n10[0] == 0.0f && n01[0] == 0.0f && n11[0] == 0.0f) return {};
-  const auto lerp = [&](int k) {
-    const float lo = n00[k] + a * (n10[k] - n00[k]), hi = n01[k] + a * (n11[k] - n01[k]);
-    return lo + b * (hi - lo);
-  };
-  return {lerp(0), lerp(1), lerp(2), lerp(3)};
-}
-
 bool finite(LinearRgb c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
 
 /// Per-thread row buffers (SoA, `width` entries each), sized once by create().
 struct alignas(64) Scratch {
-  enum Array { dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, rough, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr, count };
+  enum Array {
+    dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, rough, side, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr,
+    ax, ay, az, sky_r, sky_g, sky_b, foam, on_sand, qx, qy, qz, footprint, sand_r, sand_g, sand_b, lit,
+    seen_r, seen_g, seen_b, seen_t, seen_path, seen_illumination, under_r, under_g, under_b, count
+  };
   std::vector<float> memory;
   float* a[count] = {};
   std::vector<float> accumulated;  // 3 per pixel
   std::vector<MarchStatus> status;
   std::vector<SurfaceHit> object;
+  std::vector<SurfaceHit> under;  // what the ray into the water from a sea hit meets (shade_sample)
   std::int64_t march_ns = 0, intersect_ns = 0, shade_ns = 0;
   RenderCounters counters;
 
@@ -215,6 +151,7 @@ struct alignas(64) Scratch {
     accumulated.assign(std::size_t(width) * 3, 0.0f);
     status.assign(width, MarchStatus::miss);
     object.assign(width, SurfaceHit{});
+    under.assign(width, SurfaceHit{});
   }
 };
 
@@ -234,7 +171,7 @@ struct Renderer::Impl {
   // Light in the renderer's relative units (see renderer.hpp).
   Vec3 sun{0.0f, 0.0f, 1.0f};
   LinearRgb sand;             ///< the dry sand's reflectance
-  PackedSurf surf;            ///< where waves break (empty: nowhere)
+  detail::PackedSurf surf;   ///< where waves break (empty: nowhere)
   LinearRgb sun_rgb;          ///< a white surface facing the sun reflects this
   LinearRgb ambient;          ///< a white horizontal surface reflects this of the sky's light
   LinearRgb sky_scale;        ///< sky kcd/m^2 -> relative radiance (dimmed and tinted after sunset)
@@ -275,17 +212,32 @@ struct Renderer::Impl {
   void shade_sample(Scratch& s) noexcept;
   void add_aovs(const Scratch& s, std::uint32_t row, int sample) const noexcept;
   LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
-  LinearRgb sky_radiance(const Vec3& d) const noexcept { return sky.lookup(d) * sky_scale; }
+  /// The sky's radiance along pixel i's direction in air (shade_sample's air_directions).
+  LinearRgb sky_radiance(const Scratch& s, std::size_t i) const noexcept {
+    return LinearRgb{s.a[Scratch::sky_r][i], s.a[Scratch::sky_g][i], s.a[Scratch::sky_b][i]} * sky_scale;
+  }
   // `travelled`: m from the camera to where the ray starts (0 for primary rays): with the hit's t it
   // gives the pixel's footprint there.
-  LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept;
-  LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept;
+  LinearRgb albedo(const SurfaceHit& h, const Vec3& p, float travelled) const noexcept;
+  /// The albedo at pixel i's floor hit (shade_sample's sand_albedo) or object hit h.
+  LinearRgb albedo(const Scratch& s, std::size_t i, const SurfaceHit& h) const noexcept {
+    return h.kind == HitKind::floor ? LinearRgb{s.a[Scratch::sand_r][i], s.a[Scratch::sand_g][i], s.a[Scratch::sand_b][i]}
+                                    : objects.albedo(h);
+  }
+  LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept;
+  LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept;
   LinearRgb through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept;
-  LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float travelled) const noexcept;
-  LinearRgb trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float illumination,
-                        float travelled) const noexcept;
+  LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float travelled,
+                      LinearRgb sky_along_d) const noexcept;
+  SurfaceHit water_hit(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
+    return objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0,
+                                       double(std::min(underwater_reach, max_distance)));
+  }
+  LinearRgb through_water_to(const SurfaceHit& h, LinearRgb albedo, const Vec3& p, const Vec3& d,
+                             float illumination) const noexcept;
+  void find_water_hits(Scratch& s) const noexcept;
+  void light_under_water(Scratch& s) const noexcept;
   bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
-  float foam_cover(const Vec3& p, float grad_x, float grad_y, float footprint) const noexcept;
   float sun_path_in_water(const Vec3& p) const noexcept {
     return sun_water[2] > 0.0f ? std::max(0.0f, -p[2]) / sun_water[2] : 0.0f;
   }
@@ -293,10 +245,15 @@ struct Renderer::Impl {
 
 // ---- Shading ----------------------------------------------------------------------------------
 
-LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept {
+LinearRgb Renderer::Impl::albedo(const SurfaceHit& h, const Vec3& p, float travelled) const noexcept {
+  if (h.kind != HitKind::floor) return objects.albedo(h);
+  const auto c = detail::sand_at<simd::scalar>(sand, p[0], p[1], p[2], (travelled + h.t) * camera.pixel_angle);
+  return {c.r, c.g, c.b};
+}
+
+LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept {
   Vec3 n = h.normal;
   if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};  // the side the ray sees
-  const LinearRgb albedo = h.kind == HitKind::floor ? sand_at(sand, p, (travelled + h.t) * camera.pixel_angle) : objects.albedo(h);
   LinearRgb light = ambient * (0.5f * (1.0f + n[2]));
   const float cos_sun = dot(n, sun);
   if (cos_sun > 0.0f) {
@@ -307,10 +264,9 @@ LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const V
   return albedo * light;
 }
 
-LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled) const noexcept {
+LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept {
   Vec3 n = h.normal;
   if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};
-  const LinearRgb albedo = h.kind == HitKind::floor ? sand_at(sand, p, (travelled + h.t) * camera.pixel_angle) : objects.albedo(h);
   LinearRgb light = ambient_water * (0.5f * (1.0f + n[2]));
   const float cos_sun = dot(n, sun_water);
   if (cos_sun > 0.0f && sun_water[2] > 0.0f) {
@@ -337,8 +293,7 @@ LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const
 /// (sea_illumination, or less in an object's shadow).
 LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept {
   if (quality.spectral_absorption) {
-    const LinearRgb sum = water->absorbed(object, distance + light_path) + water->sea_part(distance) * illumination;
-    return gamut_map_to_grey(sum);
+    return water->mix(object, distance, light_path, illumination);
   }
   const LinearRgb sea = water->sea_colour() * illumination;
   const float k[3] = {std::exp(-rgb_absorption[0] * distance), std::exp(-rgb_absorption[1] * distance),
@@ -349,41 +304,27 @@ LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float 
           object.b * k[2] * ks[2] + sea.b * (1.0f - k[2])};
 }
 
-/// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky.
+/// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky
+/// (sky_along_d, looked up a row at a time).
 LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
-                                     float travelled) const noexcept {
+                                     float travelled, LinearRgb sky_along_d) const noexcept {
   if (quality.reflect_objects) {
     const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
-    if (h.kind != HitKind::none) return lit_in_air(h, along(p, d, h.t), d, travelled);
+    if (h.kind != HitKind::none) {
+      const Vec3 q = along(p, d, h.t);
+      return lit_in_air(h, q, d, albedo(h, q, travelled));
+    }
   }
-  return sky_radiance(d);
+  return sky_along_d;
 }
 
-/// Radiance arriving at p from direction d through water: eq. 12 on the floor or an object within
-/// reach, I_sea otherwise.
-LinearRgb Renderer::Impl::trace_water(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
-                                       float illumination, float travelled) const noexcept {
-  const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0,
-                                                  double(std::min(underwater_reach, max_distance)));
+/// Radiance arriving at p from direction d through water, which meets h (water_hit) of that albedo:
+/// eq. 12 on the floor or an object within reach, I_sea otherwise.
+LinearRgb Renderer::Impl::through_water_to(const SurfaceHit& h, LinearRgb albedo, const Vec3& p, const Vec3& d,
+                                           float illumination) const noexcept {
   if (h.kind == HitKind::none) return water->sea_colour() * illumination;
   const Vec3 q = along(p, d, h.t);
-  return through_water(lit_in_water(h, q, d, travelled), h.t, sun_path_in_water(q), illumination);
-}
-
-/// How much of the sea at hit p (surface gradient grad) foam covers (docs/rendering.md 3.7): where the
-/// surf map says waves break, on the crests (their height against the breaking wave's amplitude)
-/// and most on their front faces (the surface falling along the waves' travel), with a thinner sheet
-/// of spent foam between them; patchy, the patches faded out as the footprint (m) grows past them.
-float Renderer::Impl::foam_cover(const Vec3& p, float grad_x, float grad_y, float footprint) const noexcept {
-  const SurfSample s = surf_at(surf, p[0], p[1]);
-  if (!(s.foam > 0.0f)) return 0.0f;
-  const float up = std::clamp(p[2] / std::max(s.amplitude, 0.05f) + 0.3f, 0.0f, 1.0f);
-  const float crest = up * up * (3.0f - 2.0f * up);
-  const float moving = s.dir_x * s.dir_x + s.dir_y * s.dir_y;  // 0 at a wall's toe: every crest foams
-  const float front = moving > 0.25f ? std::clamp(-5.0f * (grad_x * s.dir_x + grad_y * s.dir_y), 0.0f, 1.0f) : 1.0f;
-  const float patches = std::clamp(2.0f - footprint * 8.0f / 1.5f, 0.0f, 1.0f);
-  const float texture = patches > 0.0f ? 0.7f + 0.3f * patches * lattice_noise(p[0] * 0.8f + 5.0f, p[1] * 0.8f) : 0.7f;
-  return std::clamp(s.foam * (0.2f + crest * (0.3f + 0.7f * front)) * texture, 0.0f, 1.0f);
+  return through_water(lit_in_water(h, q, d, albedo), h.t, sun_path_in_water(q), illumination);
 }
 
 /// Whether the sun reaches the sea's surface at p past the boxes and spheres (docs/rendering.md 3.5):
@@ -409,38 +350,27 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     const SurfaceHit& h = s.object[i];
     if (h.kind == HitKind::none) {
       ++c.sky;
-      return camera_under ? sea_lit : sky_radiance(d);
+      return camera_under ? sea_lit : sky_radiance(s, i);
     }
     ++c.object;
     const Vec3 p = along(camera.position, d, h.t);
-    if (!camera_under) return lit_in_air(h, p, d, 0.0f);
-    return through_water(lit_in_water(h, p, d, 0.0f), h.t, sun_path_in_water(p), sea_illumination);
+    if (!camera_under) return lit_in_air(h, p, d, albedo(s, i, h));
+    return through_water(lit_in_water(h, p, d, albedo(s, i, h)), h.t, sun_path_in_water(p), sea_illumination);
   }
   ++c.sea;
   const float t = s.a[Scratch::t][i];
   const Vec3 p{s.a[Scratch::hx][i], s.a[Scratch::hy][i], s.a[Scratch::hz][i]};
   const Vec3 n{s.a[Scratch::nx][i], s.a[Scratch::ny][i], s.a[Scratch::nz][i]};
   const float kr = s.a[Scratch::kr][i];
-  Vec3 r{s.a[Scratch::rx][i], s.a[Scratch::ry][i], s.a[Scratch::rz][i]};
-  Vec3 tr{s.a[Scratch::tx][i], s.a[Scratch::ty][i], s.a[Scratch::tz][i]};
+  // The ray that leaves into air, kept above the horizon (shade_sample).
+  const Vec3 air{s.a[Scratch::ax][i], s.a[Scratch::ay][i], s.a[Scratch::az][i]};
   const float offset = 1e-3f + 1e-4f * t;
-  const Vec3 n_down{-n[0], -n[1], -n[2]};
-  // Rays that must leave upwards are kept above the horizon: they would meet the sea again, which
-  // secondary rays do not trace (renderer.hpp).
-  const auto lift = [](Vec3& v) {
-    if (v[2] >= min_reflected_dz) return;
-    const float h2 = v[0] * v[0] + v[1] * v[1];
-    const float k = h2 > 0.0f ? std::sqrt((1.0f - min_reflected_dz * min_reflected_dz) / h2) : 0.0f;
-    v = {v[0] * k, v[1] * k, h2 > 0.0f ? min_reflected_dz : 1.0f};
-  };
-
+  const SurfaceHit& under = s.under[i];
   if (status == MarchStatus::hit) {
-    lift(r);
-    // In an object's shadow the sea loses the glint and the sun's share of its own light.
-    const bool lit = sunlit(p, n, offset);
-    const LinearRgb reflected = trace_air(p, n, offset, r, t);
-    const LinearRgb transmitted =
-        kr < 1.0f ? trace_water(p, n_down, offset, tr, lit ? sea_illumination : sea_shade_illumination, t) : LinearRgb{};
+    const bool lit = s.a[Scratch::lit][i] > 0.0f;
+    const LinearRgb reflected = trace_air(p, n, offset, air, t, sky_radiance(s, i));
+    const LinearRgb transmitted = kr < 1.0f ? LinearRgb{s.a[Scratch::under_r][i], s.a[Scratch::under_g][i], s.a[Scratch::under_b][i]}
+                                            : LinearRgb{};
     // The sun's glint, widened by the slope variance of the octaves and trains the LOD left out at
     // this pixel (docs/rendering.md 5.4, 5.5).
     float glint = 0.0f;
@@ -454,7 +384,7 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     }
     const LinearRgb surface_light = reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
     if (surf.nx == 0) return surface_light;
-    const float cover = foam_cover(p, s.a[Scratch::gx][i], s.a[Scratch::gy][i], t * camera.pixel_angle);
+    const float cover = s.a[Scratch::foam][i];
     if (!(cover > 0.0f)) return surface_light;
     // Foam is a white diffuse layer on the water, lit like an object's face along the normal.
     constexpr float foam_albedo = 0.85f;
@@ -464,42 +394,133 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     return surface_light * (1.0f - cover) + foam * cover;
   }
   // From below: the interface sent r back down into the sea and tr (outside Snell's window: none) up.
-  const LinearRgb reflected = trace_water(p, n_down, offset, r, sea_illumination, t);
-  LinearRgb transmitted{};
-  if (kr < 1.0f) {
-    lift(tr);
-    transmitted = trace_air(p, n, offset, tr, t);
-  }
+  const Vec3 r{s.a[Scratch::rx][i], s.a[Scratch::ry][i], s.a[Scratch::rz][i]};
+  const LinearRgb reflected = through_water_to(under, albedo(s, i, under), p, r, sea_illumination);
+  const LinearRgb transmitted = kr < 1.0f ? trace_air(p, n, offset, air, t, sky_radiance(s, i)) : LinearRgb{};
   return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
+}
+
+/// For each pixel of the row, what its ray into the water meets (a sea hit's refracted ray, or its
+/// reflected one from below) in s.under, and where a pixel's ray meets the floor (that one, or the
+/// primary ray's; the footprint there in m) for the sand.
+void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
+  float* const* a = s.a;
+  for (std::size_t i = 0; i < width; ++i) {
+    const float side = a[Scratch::side][i];
+    SurfaceHit* h = &s.under[i];
+    Vec3 from = camera.position, d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
+    float travelled = 0.0f;
+    *h = SurfaceHit{};
+    if (side != 0.0f) {
+      // From above the refracted ray (none under total reflection), from below the reflected one.
+      from = {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]};
+      d = side > 0.0f ? Vec3{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]}
+                      : Vec3{a[Scratch::rx][i], a[Scratch::ry][i], a[Scratch::rz][i]};
+      travelled = a[Scratch::t][i];
+      if (side < 0.0f || a[Scratch::kr][i] < 1.0f) {
+        const float offset = 1e-3f + 1e-4f * travelled;
+        *h = water_hit(from, {-a[Scratch::nx][i], -a[Scratch::ny][i], -a[Scratch::nz][i]}, offset, d);
+      }
+    } else {
+      h = &s.object[i];
+    }
+    const bool floor = h->kind == HitKind::floor;
+    const Vec3 q = floor ? along(from, d, h->t) : Vec3{};
+    a[Scratch::on_sand][i] = floor ? 1.0f : 0.0f;
+    a[Scratch::qx][i] = q[0];
+    a[Scratch::qy][i] = q[1];
+    a[Scratch::qz][i] = q[2];
+    a[Scratch::footprint][i] = (travelled + h->t) * camera.pixel_angle;
+  }
+}
+
+/// For each sea hit seen from above, whether the sun reaches it (s.lit) and the light its refracted ray
+/// brings up (s.under_*: eq. 12 on what it meets, I_sea if nothing), the water's absorption a packet at
+/// a time.
+void Renderer::Impl::light_under_water(Scratch& s) const noexcept {
+  float* const* a = s.a;
+  std::size_t first = width, end = 0;  // the pixels whose refracted ray meets something
+  for (std::size_t i = 0; i < width; ++i) {
+    a[Scratch::seen_r][i] = a[Scratch::seen_g][i] = a[Scratch::seen_b][i] = 0.0f;
+    a[Scratch::seen_t][i] = a[Scratch::seen_path][i] = a[Scratch::seen_illumination][i] = 0.0f;
+    if (!(a[Scratch::side][i] > 0.0f)) continue;
+    const Vec3 p{a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]};
+    const Vec3 n{a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]};
+    // In an object's shadow the sea loses the glint and the sun's share of its own light.
+    const bool lit = sunlit(p, n, 1e-3f + 1e-4f * a[Scratch::t][i]);
+    a[Scratch::lit][i] = lit ? 1.0f : 0.0f;
+    const SurfaceHit& h = s.under[i];
+    if (!(a[Scratch::kr][i] < 1.0f) || h.kind == HitKind::none) continue;
+    const Vec3 tr{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]};
+    const Vec3 q = along(p, tr, h.t);
+    const LinearRgb seen = lit_in_water(h, q, tr, albedo(s, i, h));
+    a[Scratch::seen_r][i] = seen.r;
+    a[Scratch::seen_g][i] = seen.g;
+    a[Scratch::seen_b][i] = seen.b;
+    a[Scratch::seen_t][i] = h.t;
+    a[Scratch::seen_path][i] = sun_path_in_water(q);
+    a[Scratch::seen_illumination][i] = lit ? sea_illumination : sea_shade_illumination;
+    first = std::min(first, i);
+    end = i + 1;
+  }
+  if (quality.spectral_absorption && first < end) {
+    const auto from = [&](int array) { return a[array] + first; };
+    water->mix({from(Scratch::seen_r), from(Scratch::seen_g), from(Scratch::seen_b), from(Scratch::seen_t),
+                from(Scratch::seen_path), from(Scratch::seen_illumination)},
+               end - first, {from(Scratch::under_r), from(Scratch::under_g), from(Scratch::under_b)});
+  }
+  for (std::size_t i = 0; i < width; ++i) {
+    if (!(a[Scratch::side][i] > 0.0f)) continue;
+    LinearRgb c;
+    if (s.under[i].kind == HitKind::none) {
+      c = water->sea_colour() * (a[Scratch::lit][i] > 0.0f ? sea_illumination : sea_shade_illumination);
+    } else if (!quality.spectral_absorption) {
+      c = through_water({a[Scratch::seen_r][i], a[Scratch::seen_g][i], a[Scratch::seen_b][i]}, a[Scratch::seen_t][i],
+                        a[Scratch::seen_path][i], a[Scratch::seen_illumination][i]);
+    } else {
+      continue;
+    }
+    a[Scratch::under_r][i] = c.r;
+    a[Scratch::under_g][i] = c.g;
+    a[Scratch::under_b][i] = c.b;
+  }
 }
 
 void Renderer::Impl::shade_sample(Scratch& s) noexcept {
   const std::size_t w = width;
   float* const* a = s.a;
   // Eq. 8 normals, bent towards the viewer's side where a steep facet would face away from the ray
-  // (docs/rendering.md 3.3 (a)), then the exact Fresnel split for the whole row in one SIMD batch.
+  // (docs/rendering.md 3.3 (a)), the exact Fresnel split, the rays into air kept above the horizon
+  // (3.3 (b)) and the sky along them, the foam, for the whole row in SIMD batches; then each pixel's
+  // own rays.
   for (std::size_t i = 0; i < w; ++i) {
     const MarchStatus st = s.status[i];
-    Vec3 n{0.0f, 0.0f, 1.0f};
-    if (st == MarchStatus::hit || st == MarchStatus::hit_from_below) {
-      n = normalized({-a[Scratch::gx][i], -a[Scratch::gy][i], 1.0f});
-      const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
-      // From above the ray must meet the normal head on (n.d < 0), from below the other way.
-      const float want = st == MarchStatus::hit ? -0.01f : 0.01f;
-      const float nd = dot(n, d);
-      if (st == MarchStatus::hit ? nd > want : nd < want) {
-        const float k = nd - want;
-        n = normalized({n[0] - k * d[0], n[1] - k * d[1], n[2] - k * d[2]});
-      }
-    }
-    a[Scratch::nx][i] = n[0];
-    a[Scratch::ny][i] = n[1];
-    a[Scratch::nz][i] = n[2];
+    a[Scratch::side][i] = st == MarchStatus::hit ? 1.0f : st == MarchStatus::hit_from_below ? -1.0f : 0.0f;
   }
+  sea_normals({a[Scratch::side], a[Scratch::gx], a[Scratch::gy], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]}, w,
+              {a[Scratch::nx], a[Scratch::ny], a[Scratch::nz]});
   const ReflectRefractInput in{a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::nx], a[Scratch::ny], a[Scratch::nz]};
   reflect_refract(in, w, 1.0f, water_refractive_index,
                   {a[Scratch::rx], a[Scratch::ry], a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz],
                    a[Scratch::kr]});
+  if (view == RenderView::shaded) {
+    air_directions({a[Scratch::side], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::rx], a[Scratch::ry],
+                    a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz]},
+                   w, min_reflected_dz, {a[Scratch::ax], a[Scratch::ay], a[Scratch::az]});
+    sky.lookup(a[Scratch::ax], a[Scratch::ay], a[Scratch::az], w, a[Scratch::sky_r], a[Scratch::sky_g], a[Scratch::sky_b]);
+    if (surf.nx != 0) {
+      detail::foam_cover(surf.view(),
+                         {a[Scratch::side], a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::gx], a[Scratch::gy],
+                          a[Scratch::t]},
+                         w, camera.pixel_angle, a[Scratch::foam]);
+    }
+    // The rays into the water walk the floor one by one; the sand where they (or primary rays) meet it
+    // is coloured a packet at a time.
+    find_water_hits(s);
+    detail::sand_albedo(sand, {a[Scratch::on_sand], a[Scratch::qx], a[Scratch::qy], a[Scratch::qz], a[Scratch::footprint]},
+                        w, {a[Scratch::sand_r], a[Scratch::sand_g], a[Scratch::sand_b]});
+    light_under_water(s);
+  }
   float* acc = s.accumulated.data();
   for (std::size_t i = 0; i < w; ++i) {
     LinearRgb c = shade_primary(s, i, s.counters);
@@ -659,10 +680,11 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
   const std::size_t surf_nodes = std::size_t(surf.nx) * surf.ny;
   if ((surf.nx == 0) != (surf.ny == 0) || (surf.nx != 0 && (surf.nx < 2 || surf.ny < 2)) ||
       !(std::isfinite(surf.cell) && surf.cell > 0.0f) || surf.foam.size() != surf_nodes ||
-      surf.dir_x.size() != surf_nodes || surf.dir_y.size() != surf_nodes || surf.amplitude.size() != surf_nodes) {
-    return Error{"surf", "nx, ny >= 2 (or both 0), a cell > 0 m and nx * ny values in each field"};
+      surf.dir_x.size() != surf_nodes || surf.dir_y.size() != surf_nodes || surf.amplitude.size() != surf_nodes ||
+      !detail::surf_map_fits(surf.nx, surf.ny)) {
+    return Error{"surf", "nx, ny >= 2 (or both 0), at most 2^29 nodes, a cell > 0 m and nx * ny values in each field"};
   }
-  r.surf = pack(surf);
+  r.surf = detail::pack(surf);
   const float elevation = std::asin(std::clamp(r.sun[2], -1.0f, 1.0f));
   const LinearRgb transmittance = sun_transmittance(double(r.sun[2]), double(scene.turbidity));
   const double e_sun = solar_constant_klx * double(luminance(transmittance));

@@ -5,13 +5,16 @@
 #include <numbers>
 
 #include "houle/render/optics.hpp"
+#include "houle/runtime/assert.hpp"
+#include "houle/simd/dispatch.hpp"
+#include "render_table.hpp"
+#include "sky_impl.hpp"
 
 namespace houle {
 namespace {
 
 constexpr double pi = std::numbers::pi;
-// cos(sky_max_view_zenith_rad) = sin(0.001): the lowest view z the model is evaluated at.
-constexpr double min_view_z = 9.9999983333334168e-4;
+constexpr double min_view_z = detail::sky_min_view_z;
 
 // Preetham et al. 1999, appendix A.2 (docs/rendering.md 6.1): Perez coefficients linear in turbidity T,
 // rows A..E, columns (slope, intercept), for Y, x, y.
@@ -50,16 +53,8 @@ LinearRgb xyy_to_rgb(const SkyXyY& s) {
   return {std::max(c.r, 0.0f), std::max(c.g, 0.0f), std::max(c.b, 0.0f)};
 }
 
-// Column coordinate of a view's azimuth: the "diamond angle" p in [0, 4), a monotonic stand-in for
-// atan2 made of one division and a copysign. With t = x / (|x| + |y|): p = 1 - t for y >= 0 and
-// 3 + t for y < 0 (p = 0 along +x, 1 along +y, 2 along -x, 3 along -y). Columns uniform in p are
-// 0.64x to 1.27x the spacing of uniform azimuth, which the accuracy test covers. A polynomial atan2
-// cost more, and its octant branches mispredict: reflected rays point every which way.
-float column_of_xy(float x, float y) {
-  const float t = x / std::max(std::fabs(x) + std::fabs(y), 1e-30f);
-  return 2.0f - std::copysign(1.0f, y) * (1.0f + t);
-}
-// The unit (x, y) direction of column coordinate p (the inverse of column_of_xy, for the bake).
+// The unit (x, y) direction of column coordinate p (the inverse of sky_column_of_xy in sky_impl.hpp, for
+// the bake).
 std::array<double, 2> xy_of_column(double p) {
   const double t = p < 2.0 ? 1.0 - p : p - 3.0;
   const double x = t, y = p < 2.0 ? 1.0 - std::fabs(t) : std::fabs(t) - 1.0;
@@ -67,21 +62,11 @@ std::array<double, 2> xy_of_column(double p) {
   return {x / len, y / len};
 }
 
-// Row coordinate v in [0, 1] of a view with z component `z` (see SkyLut): z' = z rescaled from
-// [min_view_z, 1] to [0, 1], warped by w = z' (1 + k) / (z' + k), then v = 1 - sqrt(1 - w).
-// The sqrt makes rows about uniform in zenith angle near the zenith; the warp packs them towards the
-// horizon, where the Perez term 1 + A e^{B / cos(theta)} bends most. k = 0.35 was the best of
-// 0.1-0.6 (and of uniform theta, uniform z, smoothstep) by the 99th-percentile lookup error.
-constexpr double row_warp = 0.35;
-float row_of_z(float z) {
-  constexpr float z0 = float(min_view_z), scale = float(1.0 / (1.0 - min_view_z)), k = float(row_warp);
-  const float zr = std::min(std::max((z - z0) * scale, 0.0f), 1.0f);  // min/max: no branches
-  const float w = zr * (1.0f + k) / (zr + k);
-  return 1.0f - std::sqrt(std::max(1.0f - w, 0.0f));
-}
+// The inverse of sky_row_of_z (sky_impl.hpp), for the bake. Its warp k = 0.35 was the best of 0.1-0.6 (and of
+// uniform theta, uniform z, smoothstep) by the 99th-percentile lookup error.
 double z_of_row(double v) {
   const double w = 1.0 - (1.0 - v) * (1.0 - v);
-  return min_view_z + (1.0 - min_view_z) * (row_warp * w / (1.0 + row_warp - w));
+  return min_view_z + (1.0 - min_view_z) * (detail::sky_row_warp * w / (1.0 + detail::sky_row_warp - w));
 }
 
 }  // namespace
@@ -168,22 +153,31 @@ void SkyLut::bake(const PreethamSky& sky) noexcept {
   }
 }
 
+static_assert(SkyLut::width == detail::sky_columns && SkyLut::height == detail::sky_rows);
+
 LinearRgb SkyLut::lookup(std::array<float, 3> d) const noexcept {
-  // max(0, NaN) is 0: a NaN direction reads texel (0, 0) rather than out of bounds.
-  const float fu = std::min(std::max(0.0f, column_of_xy(d[0], d[1]) * float(width / 4)), float(width));
-  const float fv = std::max(0.0f, row_of_z(d[2]) * float(height - 1));
-  const int i = std::min(int(fu), width - 1), j = std::min(int(fv), height - 2);
-  const float a = fu - float(i), b = fv - float(j);
-  const float* t00 = &texels_[(std::size_t(j) * (width + 1) + std::size_t(i)) * 3];
-  const float* t10 = t00 + 3;
-  const float* t01 = t00 + (width + 1) * 3;
-  const float* t11 = t01 + 3;
-  const auto bilerp = [&](int c) {
-    const float lo = t00[c] + a * (t10[c] - t00[c]);
-    const float hi = t01[c] + a * (t11[c] - t01[c]);
-    return lo + b * (hi - lo);
-  };
-  return {bilerp(0), bilerp(1), bilerp(2)};
+  const auto c = detail::sky_lookup<simd::scalar>(texels_.data(), d[0], d[1], d[2]);
+  return {c.r, c.g, c.b};
+}
+
+namespace {
+void check_lookup(const float* x, const float* y, const float* z, std::size_t n, const float* r, const float* g,
+                  const float* b) noexcept {
+  HOULE_ASSERT(n == 0 || (x != nullptr && y != nullptr && z != nullptr && r != nullptr && g != nullptr && b != nullptr),
+               "SkyLut::lookup: n floats in every array");
+}
+}  // namespace
+
+void SkyLut::lookup(const float* x, const float* y, const float* z, std::size_t n, float* r, float* g,
+                    float* b) const noexcept {
+  check_lookup(x, y, z, n, r, g, b);
+  simd::active_table<detail::RenderTable>().sky_lookup_batch(texels_.data(), x, y, z, n, r, g, b);
+}
+
+void SkyLut::lookup(Isa isa, const float* x, const float* y, const float* z, std::size_t n, float* r, float* g,
+                    float* b) const noexcept {
+  check_lookup(x, y, z, n, r, g, b);
+  simd::table_for<detail::RenderTable>(isa).sky_lookup_batch(texels_.data(), x, y, z, n, r, g, b);
 }
 
 // ---- The sun below the horizon ----

@@ -7,13 +7,18 @@
 // are float and allocation-free.
 #pragma once
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 #include <vector>
 
 #include "houle/runtime/expected.hpp"
+#include "houle/runtime/isa.hpp"
 
 namespace houle {
+namespace detail {
+struct WaterTable;  // src/colour_impl.hpp
+}  // namespace detail
 
 struct LinearRgb {
   float r = 0.0f, g = 0.0f, b = 0.0f;
@@ -145,6 +150,17 @@ struct WaterColourParams {
   double rgb_fit_distance_m = 2.0;
 };
 
+/// n objects of linear colour (r, g, b) seen through water, for WaterColourLut::mix.
+struct WaterMixInput {
+  const float *r, *g, *b;
+  const float* distance_m;    ///< the ray's path in water
+  const float* light_path_m;  ///< the object's light's own path down through the water
+  const float* illumination;  ///< I_sea's scale
+};
+struct WaterMixOutput {
+  float *r, *g, *b;
+};
+
 /// Eq. 12 per wavelength, I_t(lambda) = K(lambda) I_obj(lambda) + (1 - K(lambda)) I_sea(lambda) with
 /// K = e^{-a(lambda) d}, precomputed for a scene: eq. 12 is linear in the spectra, so each Smits basis
 /// spectrum b gets an RGB table LUT_b(d) = M_XYZ->sRGB sum basis_b E e^{-a d} cmf dlambda, and I_sea one
@@ -166,6 +182,14 @@ class WaterColourLut {
   /// The two terms of eq. 12 separately, not gamut-mapped: K I_obj and (1 - K) I_sea.
   LinearRgb absorbed(LinearRgb object, float distance_m) const noexcept;
   LinearRgb sea_part(float distance_m) const noexcept;
+  /// docs/rendering.md 3.4 with its refinement, gamut-mapped: absorbed(object, d + s) + sea_part(d)
+  /// illumination for an object seen through d m of water whose light came down s m of it
+  /// (transmitted() is mix(object, d, 0, 1)).
+  LinearRgb mix(LinearRgb object, float distance_m, float light_path_m, float illumination) const noexcept;
+  /// mix() of n objects: the same bits, a packet at a time. Any n, no alignment.
+  void mix(const WaterMixInput& in, std::size_t n, WaterMixOutput out) const noexcept;
+  /// The same on a given ISA (it must be supported): for tests and benchmarks.
+  void mix(Isa isa, const WaterMixInput& in, std::size_t n, WaterMixOutput out) const noexcept;
   /// I_sea: what a ray that hits nothing under water sees (eq. 12 with K = 0).
   LinearRgb sea_colour() const noexcept { return sea_colour_; }
 
@@ -181,11 +205,7 @@ class WaterColourLut {
  private:
   WaterColourLut() = default;
   static constexpr int row_floats = (smits_basis_count + 1) * 3;  // 7 bases and I_sea, RGB each
-  struct Position {
-    const float* lo;  // row below
-    float t;          // weight of the row above (lo + row_floats)
-  };
-  Position position(float distance_m) const noexcept;
+  detail::WaterTable table() const noexcept;  ///< the lookups' view of table_
 
   std::vector<float> table_;  // entries_ rows of row_floats: [white..blue, sea][r, g, b]
   int entries_ = 0;

@@ -60,4 +60,33 @@ void reflect_refract(const ReflectRefractInput& in, std::size_t n, float n_outsi
 void reflect_refract(Isa isa, const ReflectRefractInput& in, std::size_t n, float n_outside, float n_inside,
                      ReflectRefractOutput out) noexcept;
 
+/// The shading normals of a row of sea hits (docs/rendering.md 3.3 (a)): the height field's normal
+/// (-gx, -gy, 1), normalised, bent where it faces away from the unit ray d until N.d = -0.01 for a hit
+/// from above (side > 0; +0.01 from below, side < 0) and renormalised; (0, 0, 1) where side is 0.
+struct SeaNormalsInput {
+  const float* side;      ///< > 0: hit from above, < 0: from below, 0: no sea hit
+  const float *gx, *gy;   ///< the surface's gradient at the hit
+  const float *dx, *dy, *dz;  ///< unit ray directions
+};
+struct SeaNormalsOutput {
+  float *nx, *ny, *nz;
+};
+void sea_normals(const SeaNormalsInput& in, std::size_t n, SeaNormalsOutput out) noexcept;
+/// The same on a given ISA (it must be supported): for tests and benchmarks.
+void sea_normals(Isa isa, const SeaNormalsInput& in, std::size_t n, SeaNormalsOutput out) noexcept;
+
+/// The direction of a row's rays in air (docs/rendering.md 3.3 (b)): from a sea hit seen from above
+/// (side > 0) the reflected ray r, from below (side < 0) the refracted ray t, each lifted to a z of at
+/// least min_dz and renormalised (straight down becomes straight up); elsewhere the primary ray d.
+struct AirDirectionsInput {
+  const float* side;  ///< as in SeaNormalsInput
+  const float *dx, *dy, *dz, *rx, *ry, *rz, *tx, *ty, *tz;
+};
+struct AirDirectionsOutput {
+  float *x, *y, *z;
+};
+void air_directions(const AirDirectionsInput& in, std::size_t n, float min_dz, AirDirectionsOutput out) noexcept;
+/// The same on a given ISA (it must be supported): for tests and benchmarks.
+void air_directions(Isa isa, const AirDirectionsInput& in, std::size_t n, float min_dz, AirDirectionsOutput out) noexcept;
+
 }  // namespace houle

@@ -6,10 +6,12 @@
 // its exposure like everything else.
 #pragma once
 #include <array>
+#include <cstddef>
 #include <vector>
 
 #include "houle/render/colour.hpp"
 #include "houle/runtime/expected.hpp"
+#include "houle/runtime/isa.hpp"
 
 namespace houle {
 
@@ -71,6 +73,12 @@ class SkyLut {
   void bake(const PreethamSky& sky) noexcept;
   /// Bilinear lookup along a unit direction; below the horizon gives the horizon at that azimuth.
   LinearRgb lookup(std::array<float, 3> direction) const noexcept;
+  /// lookup() of n unit directions (x, y, z) into (r, g, b): the same bits, a packet at a time. Any n,
+  /// no alignment.
+  void lookup(const float* x, const float* y, const float* z, std::size_t n, float* r, float* g, float* b) const noexcept;
+  /// The same on a given ISA (it must be supported): for tests and benchmarks.
+  void lookup(Isa isa, const float* x, const float* y, const float* z, std::size_t n, float* r, float* g,
+              float* b) const noexcept;
 
  private:
   std::vector<float> texels_;  // height rows of (width + 1) RGB texels

@@ -1,0 +1,78 @@
+// Surf foam on the sea (docs/rendering.md 3.7), written once for every width: the renderer calls it a
+// row of sea hits at a time (included by render_isa.cpp). Only +, -, *, simd::div, comparisons, exact
+// conversions and gathers, and the lattice noise: every SIMD path gives the scalar path's bits
+// (tests/kernel/test_foam.cpp).
+#pragma once
+#include <cstddef>
+#include <limits>
+
+#include "foam.hpp"
+#include "houle/simd/batch_loop.hpp"
+#include "houle/simd/gather.hpp"
+#include "houle/simd/simd.hpp"
+#include "lane_ops.hpp"
+#include "lattice_noise_impl.hpp"
+
+namespace houle::detail {
+
+/// How much of the sea at (x, y, z) with gradient (gx, gy) foam covers, for a pixel footprint (m): where
+/// the surf map says waves break, on the crests (their height against the breaking wave's amplitude)
+/// and most on their front faces (the surface falling along the waves' travel), with a thinner sheet
+/// of spent foam between them; patchy, the patches faded out as the footprint grows past them. 0
+/// outside the map (and for a NaN position).
+template <class A>
+inline simd::vfloat<A> foam_cover(const SurfView& m, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> z,
+                                  simd::vfloat<A> gx, simd::vfloat<A> gy, simd::vfloat<A> footprint) {
+  using V = simd::vfloat<A>;
+  using I = simd::vint<A>;
+  const V u = simd::div(x - V(m.origin_x), V(m.cell)), v = simd::div(y - V(m.origin_y), V(m.cell));
+  const auto inside = (u >= V(0.0f)) & (v >= V(0.0f)) & (u < V(m.u_end)) & (v < V(m.v_end));
+  // Lanes outside read node 0 and are dropped at the end.
+  const V us = simd::select(inside, u, V(0.0f)), vs = simd::select(inside, v, V(0.0f));
+  const I i = simd::to_int_exact(us), j = simd::to_int_exact(vs);
+  const V a = us - simd::to_float_exact(i), b = vs - simd::to_float_exact(j);
+  const I n00 = (j * I(m.nx) + i) * I(4), n01 = n00 + I(4 * m.nx);
+  // Field k (foam, dir_x, dir_y, amplitude) bilinear.
+  const auto field = [&](int k) {
+    const V f00 = simd::gather(m.nodes, n00 + I(k)), f10 = simd::gather(m.nodes, n00 + I(4 + k));
+    const V f01 = simd::gather(m.nodes, n01 + I(k)), f11 = simd::gather(m.nodes, n01 + I(4 + k));
+    const V lo = f00 + a * (f10 - f00), hi = f01 + a * (f11 - f01);
+    return lo + b * (hi - lo);
+  };
+  const V foam = field(0);
+  const auto foaming = inside & (foam > V(0.0f));
+  if (!simd::any(foaming)) return V(0.0f);
+  const V dir_x = field(1), dir_y = field(2), amplitude = field(3);
+  const V up = clamp_as_std(simd::div(z, max_as_std(amplitude, V(0.05f))) + V(0.3f), V(0.0f), V(1.0f));
+  const V crest = up * up * (V(3.0f) - V(2.0f) * up);
+  const V moving = dir_x * dir_x + dir_y * dir_y;  // 0 at a wall's toe: every crest foams
+  const V front = simd::select(moving > V(0.25f),
+                               clamp_as_std(V(-5.0f) * (gx * dir_x + gy * dir_y), V(0.0f), V(1.0f)), V(1.0f));
+  const V patches = clamp_as_std(V(2.0f) - simd::div(footprint * V(8.0f), V(1.5f)), V(0.0f), V(1.0f));
+  // Where the patches are faded out the noise is not evaluated in the scalar path: the same bits.
+  const auto patchy = patches > V(0.0f);
+  const V noise = simd::any(patchy) ? lattice_noise<A>(x * V(0.8f) + V(5.0f), y * V(0.8f)) : V(0.0f);
+  const V texture = simd::select(patchy, V(0.7f) + V(0.3f) * patches * noise, V(0.7f));
+  const V cover = clamp_as_std(foam * (V(0.2f) + crest * (V(0.3f) + V(0.7f) * front)) * texture, V(0.0f), V(1.0f));
+  return simd::select(foaming, cover, V(0.0f));
+}
+
+/// foam_cover of the sea hits seen from above (side > 0) of a row, 0 elsewhere; footprint = t
+/// pixel_angle.
+template <class A>
+void foam_cover_batch(const SurfView& m, const FoamInput& in, std::size_t n, float pixel_angle, float* cover) noexcept {
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    using V = simd::vfloat<A>;
+    const auto above = b.load(in.side) > V(0.0f);
+    if (!simd::any(above)) {
+      b.store(cover, V(0.0f));
+      return;
+    }
+    // Lanes not above the sea (padding too) are moved off the map.
+    const V x = simd::select(above, b.load(in.x), V(std::numeric_limits<float>::quiet_NaN()));
+    const V c = foam_cover<A>(m, x, b.load(in.y), b.load(in.z), b.load(in.gx), b.load(in.gy), b.load(in.t) * V(pixel_angle));
+    b.store(cover, c);
+  });
+}
+
+}  // namespace houle::detail
