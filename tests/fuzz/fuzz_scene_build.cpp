@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <string_view>
 
+#include "houle/sim/scene.hpp"
 #include "houle/sim/sea_surface.hpp"
 #include "houle/sim/wave_rays.hpp"
 #include "scene_file.hpp"
@@ -42,6 +43,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   scene.dwt.max_samples = std::min(scene.dwt.max_samples, max_samples);
   scene.dwt.on_cap = houle::OnCap::warn;  // the caps above are ours: a truncated field is still checked
   if (!quick(scene)) return -1;
+  // Lower caps can make a valid scene invalid (an automatic ray count over max_rays): what must build
+  // is what validates with them.
+  houle::Expected<houle::Scene> capped = houle::validate(std::move(scene));
+  if (!capped) return -1;
+  scene = std::move(capped.value());
 
   const houle::Expected<houle::WaveField> field = houle::trace_wave_field(scene, 1);
   if (!field) __builtin_trap();  // the scene validated: tracing has no reason to refuse it
