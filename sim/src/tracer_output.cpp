@@ -95,9 +95,9 @@ WaveRays TrainTracer::finish(DwtStats& stats, const Also& also) {
     out.parent_a[i] = r.parent_a >= 0 ? rank[std::size_t(r.parent_a)] : -1;
     out.parent_b[i] = r.parent_b >= 0 ? rank[std::size_t(r.parent_b)] : -1;
   }
-  // Where the march carries the field and no wall reflects, rays stopped by a cap leave nothing
-  // missing: the carrier march fills the phase beyond them (docs/physics.md 10.6).
-  const bool carrier_only = marched_ && !(set_.reflection && scene_has_reflecting_walls(scene_));
+  // An incident trace whose rays only seed the carrier loses nothing to a cap (reflected traces are
+  // never marched: their rays are their wave).
+  const bool carrier_only = marched_ && rays_only_seed_the_carrier(scene_, set_);
   main_.stats.truncated = !carrier_only && (main_.stats.truncated || main_.truncated);
   stats = main_.stats;
   return out;

@@ -35,6 +35,14 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 // went on to dwt.max_rays, 127 per initial ray, and the trace stopped there.
 constexpr std::size_t marched_ray_factor = 8;
 
+// Where the parabolic model marches the field and no wall reflects, a train's rays only seed the
+// carrier phase: a cap that stops them leaves nothing missing, since the carrier march fills the
+// phase beyond them (docs/physics.md 10.6).
+inline bool rays_only_seed_the_carrier(const Scene& scene, const DwtSettings& set) noexcept {
+  return scene_wave_model(scene).kind == WaveModelKind::parabolic &&
+         !(set.reflection && scene_has_reflecting_walls(scene));
+}
+
 // ---- The train's entry front, shared by dwt_bound and the tracer -------------------------------
 
 struct Entry {

@@ -168,10 +168,7 @@ DwtBound dwt_bound(const Scene& scene, std::size_t train, const DwtSettings& set
 std::vector<Error> trace_cap_warnings(const Scene& scene) {
   std::vector<Error> warnings;
   const DwtSettings& d = scene.dwt;
-  // Where the march carries the field and no wall reflects, a cap leaves nothing missing (tracer_output.cpp).
-  if (scene_wave_model(scene).kind == WaveModelKind::parabolic && !(d.reflection && scene_has_reflecting_walls(scene))) {
-    return warnings;
-  }
+  if (detail::rays_only_seed_the_carrier(scene, d)) return warnings;  // a cap leaves nothing missing
   const std::string likely = ": the trace is likely to stop there (an error unless dwt.on_cap = \"warn\")";
   for (std::size_t i = 0; i < scene.trains.size(); ++i) {
     if (d.analytic_shortcut && !train_needs_rays(scene, i)) continue;
