@@ -753,11 +753,12 @@ TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept
   HOULE_ASSERT(train < trains_.size(), "SeaSurface::probe: a train of the scene");
   const TrainGrid& g = grids_[train];
   const TrainGridFields l = train_grid_fields(g, x, y);
-  const float gx = (x - g.origin_x) / g.cell, gy = (y - g.origin_y) / g.cell;
-  const bool on_grid = gx >= 0.0f && gy >= 0.0f && gx <= float(g.nx - 1) && gy <= float(g.ny - 1);
-  // Bilinear, as the kernel interpolates the other fields; `outside` off the grid or without the field.
+  // Bilinear, as the kernel interpolates the other fields, at the nearest point of the grid (off it
+  // the edge's wave goes on); `outside` without the field.
+  const float gx = std::clamp((x - g.origin_x) / g.cell, 0.0f, float(g.nx - 1));
+  const float gy = std::clamp((y - g.origin_y) / g.cell, 0.0f, float(g.ny - 1));
   const auto at = [&](const std::vector<float>& q, float outside) {
-    if (q.empty() || !on_grid) return outside;
+    if (q.empty() || g.nx < 2 || std::isnan(gx) || std::isnan(gy)) return outside;
     const std::size_t i = std::min(std::size_t(gx), std::size_t(g.nx) - 2), j = std::min(std::size_t(gy), std::size_t(g.ny) - 2);
     const float u = gx - float(i), v = gy - float(j);
     const std::size_t n00 = j * g.nx + i;
@@ -773,7 +774,7 @@ TrainProbe SeaSurface::probe(std::size_t train, float x, float y) const noexcept
   p.phase = float(std::remainder(double(l.phi) + std::atan2(double(l.b_im), double(l.b_re)) - double(frame_.time_phase[train]), two_pi));
   p.diffraction = at(f.diffraction, 1.0f);
   if (parts_ == SeaParts::keep) {
-    // Off the grid, and for an analytic train, the train is its far field: all incident.
+    // An analytic train is its far field: all incident.
     p.incident = at(f.incident, p.amplitude);
     p.diffracted = at(f.diffracted, 0.0f);
     p.reflected = at(f.reflected, 0.0f);

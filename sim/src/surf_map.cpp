@@ -1,5 +1,6 @@
 // Where the waves break, for the renderer's foam (sea_surface.hpp surf_map, docs/rendering.md 3.7).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <cstdint>
@@ -37,15 +38,30 @@ std::pair<double, double> wave_vector(const TrainField& f, const TrainGrid& g, s
   return {double(f.kx[n]) + gx, double(f.ky[n]) + gy};
 }
 
+/// The steps of the foam search: the eight neighbours and the eight knight's moves between them, so
+/// that a step within 30 degrees of any direction of travel exists and foam can spread sideways.
+constexpr std::array<std::array<std::int64_t, 2>, 16> foam_steps{{{1, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 1}, {-1, 2},
+                                                                  {-1, 1}, {-2, 1}, {-1, 0}, {-2, -1}, {-1, -1},
+                                                                  {-1, -2}, {0, -1}, {1, -2}, {1, -1}, {2, -1}}};
+
+/// A step of the foam search costs its length along the waves' travel plus foam_spread_cost times its
+/// length across it beyond half a cell. A step to a neighbour within 30 degrees of the travel crosses it
+/// by at most half a cell: foam carried along the travel thins by its distance whatever the travel's
+/// direction, and foam that spreads sideways (by knight's moves) thins faster.
+constexpr double foam_spread_cost = 24.0;
+
 /// Foam carried behind the break line (docs/rendering.md 3.7): per node, the largest
-/// breaking(m) e^{-s/L} over the nodes m upstream of it, s the distance the waves travel from m to the
-/// node and L = foam_decay_wavelengths local wavelengths. A shortest-path search on
-/// G = -ln foam over the grid's eight neighbours, each step taken only along the waves' travel (within
-/// 25 degrees of it) and only into nodes the train reaches; it stops where foam falls below 1 %.
-std::vector<float> carried_foam(const TrainField& f, const TrainGrid& g) {
+/// breaking(m) e^{-G/L} over the nodes m upstream of it, G the cost of the way from m to the node along
+/// the waves' drift (its length along the drift, and across it), L = foam_decay_wavelengths local
+/// wavelengths of train f: behind a break the foam spreads a little and thins to its sides (a node d
+/// cells to the side of the drift, s along it, costs s + 12d). The drift is all the trains' (`drift`,
+/// per node): foam floats on the water that all the waves move, whichever of them broke. A
+/// shortest-path search on -ln foam over foam_steps, each step taken only within 30 degrees of the
+/// drift and only into nodes the train reaches; it stops where foam falls below 1 %.
+std::vector<float> carried_foam(const TrainField& f, const TrainGrid& g, const std::vector<std::array<double, 2>>& drift) {
   const std::size_t nodes = std::size_t(g.nx) * g.ny;
   constexpr double infinite = std::numeric_limits<double>::infinity(), cutoff = 4.605170185988091;  // -ln 0.01
-  constexpr double cos_cone = 0.906307787;  // cos 25 deg: the neighbour nearest the travel, or two
+  constexpr double cos_cone = 0.866025404;  // cos 30 deg: a knight's move (26.6 deg) spreads the foam
   std::vector<double> cost(nodes, infinite);
   for (std::size_t n = 0; n < nodes; ++n) {
     if (f.breaking[n] > 0.0f) cost[n] = f.breaking[n] < 1.0f ? -std::log(double(f.breaking[n])) : 0.0;
@@ -54,11 +70,9 @@ std::vector<float> carried_foam(const TrainField& f, const TrainGrid& g) {
   // has foam as strong: most of the seeds).
   const auto improves = [&](std::size_t n, double c) {
     const std::int64_t i = std::int64_t(n % g.nx), j = std::int64_t(n / g.nx);
-    for (std::int64_t dj = -1; dj <= 1; ++dj) {
-      for (std::int64_t di = -1; di <= 1; ++di) {
-        if (i + di < 0 || j + dj < 0 || i + di >= std::int64_t(g.nx) || j + dj >= std::int64_t(g.ny)) continue;
-        if (cost[std::size_t((j + dj) * std::int64_t(g.nx) + i + di)] > c) return true;
-      }
+    for (const auto& [di, dj] : foam_steps) {
+      if (i + di < 0 || j + dj < 0 || i + di >= std::int64_t(g.nx) || j + dj >= std::int64_t(g.ny)) continue;
+      if (cost[std::size_t((j + dj) * std::int64_t(g.nx) + i + di)] > c) return true;
     }
     return false;
   };
@@ -76,21 +90,19 @@ std::vector<float> carried_foam(const TrainField& f, const TrainGrid& g) {
     if (c > cost[n] || !carries(n) || !improves(n, c)) continue;
     const std::int64_t i = std::int64_t(n % g.nx), j = std::int64_t(n / g.nx);
     const auto [kx, ky] = wave_vector(f, g, n);
-    const double k = std::hypot(kx, ky);
-    if (!(k > 0.0)) continue;
-    const double ux = kx / k, uy = ky / k;
+    const double k = std::hypot(kx, ky), d = std::hypot(drift[n][0], drift[n][1]);
+    if (!(k > 0.0) || !(d > 0.0)) continue;
+    const double ux = drift[n][0] / d, uy = drift[n][1] / d;
     const double per_metre = k / (2.0 * 3.141592653589793 * foam_decay_wavelengths);
-    for (std::int64_t dj = -1; dj <= 1; ++dj) {
-      for (std::int64_t di = -1; di <= 1; ++di) {
-        if ((di == 0 && dj == 0) || i + di < 0 || j + dj < 0 || i + di >= std::int64_t(g.nx) || j + dj >= std::int64_t(g.ny)) continue;
-        const double len = std::hypot(double(di), double(dj));
-        if ((double(di) * ux + double(dj) * uy) < cos_cone * len) continue;
-        const std::size_t m = std::size_t((j + dj) * std::int64_t(g.nx) + i + di);
-        const double next = c + len * double(g.cell) * per_metre;
-        if (next < cost[m] && next <= cutoff && carries(m)) {
-          cost[m] = next;
-          open.push({next, std::uint32_t(m)});
-        }
+    for (const auto& [di, dj] : foam_steps) {
+      if (i + di < 0 || j + dj < 0 || i + di >= std::int64_t(g.nx) || j + dj >= std::int64_t(g.ny)) continue;
+      const double along = double(di) * ux + double(dj) * uy, across = std::fabs(double(di) * uy - double(dj) * ux);
+      if (along < cos_cone * std::hypot(double(di), double(dj))) continue;
+      const std::size_t m = std::size_t((j + dj) * std::int64_t(g.nx) + i + di);
+      const double next = c + (along + foam_spread_cost * std::max(0.0, across - 0.5)) * double(g.cell) * per_metre;
+      if (next < cost[m] && next <= cutoff && carries(m)) {
+        cost[m] = next;
+        open.push({next, std::uint32_t(m)});
       }
     }
   }
@@ -125,11 +137,27 @@ SurfMap SeaSurface::surf_map(const Scene& scene) const {
   m.nx = g.nx;
   m.ny = g.ny;
   for (std::vector<float>* v : {&m.foam, &m.dir_x, &m.dir_y, &m.amplitude}) v->assign(nodes, 0.0f);
+  const auto traced = [&](std::size_t t) {
+    return trains_[t].breaking.size() == nodes && grids_[t].nx == g.nx && grids_[t].ny == g.ny;
+  };
+  // The waves' drift, which carries the foam: the sum of the trains' Stokes drifts |B|^2 omega k.
+  std::vector<std::array<double, 2>> drift(nodes, {0.0, 0.0});
+  for (std::size_t t = first; t < trains_.size(); ++t) {
+    if (!traced(t)) continue;
+    const TrainField& f = trains_[t];
+    for (std::size_t n = 0; n < nodes; ++n) {
+      const double b2 = double(f.b_re[n]) * f.b_re[n] + double(f.b_im[n]) * f.b_im[n];
+      if (!(b2 > 0.0)) continue;
+      const auto [kx, ky] = wave_vector(f, grids_[t], n);
+      drift[n][0] += b2 * f.omega * kx;
+      drift[n][1] += b2 * f.omega * ky;
+    }
+  }
   std::vector<float> sum(nodes, 0.0f);  // the trains' amplitudes, for the walls
   for (std::size_t t = first; t < trains_.size(); ++t) {
+    if (!traced(t)) continue;
     const TrainField& f = trains_[t];
-    if (f.breaking.size() != nodes || grids_[t].nx != g.nx || grids_[t].ny != g.ny) continue;
-    const std::vector<float> foam = carried_foam(f, grids_[t]);
+    const std::vector<float> foam = carried_foam(f, grids_[t], drift);
     for (std::size_t n = 0; n < nodes; ++n) {
       const float a = std::hypot(f.b_re[n], f.b_im[n]), k = std::hypot(f.kx[n], f.ky[n]);
       sum[n] += a;

@@ -1,6 +1,7 @@
 // The surf foam kernel (kernel/render/src/foam.hpp): what it covers, and every ISA against the scalar path.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -48,13 +49,13 @@ TEST(Foam, CrestsFrontsAndTheSpentSheetBetween) {
   add(1.0f, -5.0f, 15.0f, 2.0f, -1.0f, 0.0f);    // on a crest, its front face (falling along +x): 0.7 1.2
   add(1.0f, -5.0f, 15.0f, 2.0f, 1.0f, 0.0f);     // on a crest, its back: 0.7 (0.2 + 0.3) = 0.35
   add(1.0f, -5.0f, 15.0f, -2.0f, -1.0f, 0.0f);   // in a trough: the sheet, 0.7 0.2 = 0.14
-  add(1.0f, -21.0f, 15.0f, 2.0f, -1.0f, 0.0f);   // off the map
-  add(1.0f, -5.0f, 20.1f, 2.0f, -1.0f, 0.0f);    // off its far edge
+  add(1.0f, -21.0f, 15.0f, 2.0f, -1.0f, 0.0f);   // off the map: its nearest edge point's foam
+  add(1.0f, -5.0f, 20.1f, 2.0f, -1.0f, 0.0f);    // off its far edge, likewise
   add(-1.0f, -5.0f, 15.0f, 2.0f, -1.0f, 0.0f);   // seen from below
   add(0.0f, -5.0f, 15.0f, 2.0f, -1.0f, 0.0f);    // no sea hit
   add(1.0f, std::numeric_limits<float>::quiet_NaN(), 15.0f, 2.0f, -1.0f, 0.0f);
   const std::vector<float> c = cover_of(surf, h, 0.01f);
-  const float want[] = {0.84f, 0.35f, 0.14f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  const float want[] = {0.84f, 0.35f, 0.14f, 0.84f, 0.84f, 0.0f, 0.0f, 0.0f};
   for (std::size_t k = 0; k < c.size(); ++k) EXPECT_NEAR(c[k], want[k], 1e-6f) << k;
 
   // At a wall's toe (no direction of travel) every crest foams whatever the slope.
@@ -62,6 +63,9 @@ TEST(Foam, CrestsFrontsAndTheSpentSheetBetween) {
   const std::vector<float> c_toe = cover_of(toe, h, 0.01f);
   ASSERT_EQ(c_toe.size(), h.x.size());
   EXPECT_NEAR(c_toe[1], 0.84f, 1e-6f);
+  // Off the map a toe does not go on: the wall may end at the map's edge.
+  EXPECT_EQ(c_toe[3], 0.0f);
+  EXPECT_EQ(c_toe[4], 0.0f);
   // No foam in the map, none on the sea.
   for (float v : cover_of(houle::detail::pack(uniform_map(0.0f, 1.0f, 0.0f, 1.0f)), h, 0.01f)) EXPECT_EQ(v, 0.0f);
   // Near (a 1 cm footprint) the patches show: the texture varies within 0.7 +- 0.3, the cover with it.
@@ -78,6 +82,26 @@ TEST(Foam, CrestsFrontsAndTheSpentSheetBetween) {
   EXPECT_GE(lo, 0.4f * 1.2f - 1e-6f);
   EXPECT_LE(hi, 1.0f);
   EXPECT_GT(hi - lo, 0.2f);
+}
+
+TEST(Foam, ThinningFoamBreaksUpIntoLace) {
+  // Foam 0.3 (carried behind a break): near, a coarse noise opens bare water between laces of
+  // thicker foam; far (a 2 m footprint, where the lace would alias) it is an even sheet.
+  const houle::detail::PackedSurf surf = houle::detail::pack(uniform_map(0.3f, 1.0f, 0.0f, 1.0f));
+  Hits h;
+  for (int k = 0; k < 400; ++k) {
+    h.side.push_back(1.0f), h.x.push_back(-19.0f + 0.045f * float(k)), h.y.push_back(11.0f + 0.02f * float(k));
+    h.z.push_back(2.0f), h.gx.push_back(-1.0f), h.gy.push_back(0.0f), h.t.push_back(10.0f);
+  }
+  const std::vector<float> near = cover_of(surf, h, 0.001f);
+  const std::size_t bare = std::size_t(std::count(near.begin(), near.end(), 0.0f));
+  const float thickest = *std::max_element(near.begin(), near.end());
+  std::printf("foam 0.3 near: %zu of %zu bare, thickest %.3f (unlaced at most %.3f)\n", bare, near.size(), thickest, 0.3f * 1.2f);
+  EXPECT_GT(bare, near.size() / 10);
+  EXPECT_LT(bare, near.size() * 9 / 10);
+  EXPECT_GT(thickest, 0.3f * 1.2f * 1.5f);
+  h.t.assign(h.t.size(), 200.0f);
+  for (float v : cover_of(surf, h, 0.01f)) EXPECT_NEAR(v, 0.3f * 0.7f * 1.2f, 1e-6f);
 }
 
 TEST(Foam, EveryIsaMatchesScalarIncludingTails) {

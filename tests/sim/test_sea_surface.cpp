@@ -138,8 +138,10 @@ TEST(SeaSurface, ProbeReportsTheDiffractionCoefficient) {
   }
   EXPECT_LT(worst, 0.005);
   EXPECT_LT(worst_amplitude, 1e-3);
-  // Outside the grid and for a train without diffraction: K' = 1.
-  EXPECT_EQ(s.probe(0, -10.0f, -10.0f).diffraction, 1.0f);
+  // Outside the grid the nearest edge point's wave goes on (here the corner's, where the wall's
+  // reflection has left the domain); for a train without diffraction K' = 1.
+  EXPECT_EQ(s.probe(0, -10.0f, -10.0f).diffraction, s.probe(0, 0.0f, 0.0f).diffraction);
+  EXPECT_EQ(s.probe(0, -10.0f, -10.0f).amplitude, s.probe(0, 0.0f, 0.0f).amplitude);
   const houle::SeaSurface deep = build(deep_sea());
   EXPECT_EQ(deep.probe(0, 50.0f, 50.0f).diffraction, 1.0f);
   // The reflected wave is part of the train: one field per scene train.
@@ -321,6 +323,73 @@ TEST(SeaSurface, FoamIsCarriedBehindTheBreakLineAndDecays) {
   std::printf("foam behind the bar: %zu nodes over 0.1 in a trough of %zu; L %.1f-%.1f m\n", carried,
               end - last_breaking - 1, l_min, l_max);
   EXPECT_GT(carried, 10u);
+}
+
+TEST(SeaSurface, TheSeaBeyondTheDomainsSideContinuesItsEdge) {
+  // deep_sea()'s train on beach() up to y = 160: where the domain's side (x = 100) crosses the surf zone the sea
+  // beyond it must be the sea at the edge, as the floor is (a beach goes on along its shore). Before,
+  // the sea beyond was the unshoaled far field: the surf stopped at the side with a step in the height.
+  houle::Scene scene = beach();
+  scene.domain.y_max = 160.0;
+  houle::SeaSurface sea = build(scene);
+  sea.set_time(2.0);
+  double worst_step = 0.0, worst_slope = 0.0;
+  for (float y = 100.0f; y < 148.0f; y += 1.7f) {
+    const houle::TrainProbe edge = sea.probe(0, 100.0f, y), beyond = sea.probe(0, 130.0f, y);
+    EXPECT_EQ(beyond.amplitude, edge.amplitude) << "y " << y;
+    EXPECT_EQ(beyond.wavelength, edge.wavelength) << "y " << y;
+    const float xs[2] = {100.0f - 1e-3f, 100.0f + 1e-3f}, ys[2] = {y, y};
+    float h[2], gx[2], gy[2];
+    sea.eval(xs, ys, 2, h, gx, gy);
+    // Continuous: across 2 mm the height changes by its slope there, nothing more.
+    worst_step = std::max(worst_step, double(std::fabs(h[1] - h[0] - 1e-3f * (gx[0] + gx[1]))));
+    worst_slope = std::max(worst_slope, double(std::fabs(gx[0])));
+  }
+  std::printf("across the side: largest height step beyond the slope's %.2e m (slope up to %.2f)\n", worst_step, worst_slope);
+  EXPECT_LT(worst_step, 1e-5);
+  // The surf map reads the same: foam beyond the side where the edge has it.
+  const houle::SurfMap m = sea.surf_map(scene);
+  ASSERT_GT(m.nx, 0u);
+  EXPECT_GT(m.foam[std::size_t(std::lround((145.0 - m.origin_y) / m.cell)) * m.nx + m.nx - 1], 0.5f);
+}
+
+TEST(SeaSurface, FoamBehindAShoalFollowsTheWavesDriftAndSpreads) {
+  // Two equal swells at 60 and 120 degrees over a round shoal on beach(): they break over its crest,
+  // and the foam they leave floats on the water that both move, straight shoreward (their drifts'
+  // sum), spreading as it goes. Before, each train's foam went its own way (two streaks at 45 degrees,
+  // none straight behind the shoal) and kept its width.
+  houle::Scene scene = beach();
+  scene.domain = {0.0, 0.0, 200.0, 160.0};
+  scene.trains[0].amplitude = 0.3;
+  scene.trains.push_back(scene.trains[0]);
+  scene.trains[1].direction_deg = 120.0;
+  scene.floor.shoals.push_back({{100.0, 60.0}, 8.0, 8.0, 0.0, 3.5});  // 1.0 m deep on its crest
+  const houle::SeaSurface sea = build(scene);
+  const houle::SurfMap m = sea.surf_map(scene);
+  ASSERT_GT(m.nx, 0u);
+  const auto foam = [&](double x, double y) {
+    return m.foam[std::size_t(std::lround((y - m.origin_y) / m.cell)) * m.nx + std::size_t(std::lround((x - m.origin_x) / m.cell))];
+  };
+  // Where the breaking over the shoal ends along x = 100, and the foam's width (over 0.2) behind it.
+  double end = 60.0;
+  for (const houle::TrainField& f : sea.trains()) {
+    const houle::TrainGrid& g = sea.grids()[0];
+    for (double y = 60.0; y < 90.0; y += g.cell) {
+      const std::size_t n = std::size_t(std::lround((y - g.origin_y) / g.cell)) * g.nx + std::size_t(std::lround((100.0 - g.origin_x) / g.cell));
+      if (f.breaking[n] > 0.0f) end = std::max(end, y);
+    }
+  }
+  ASSERT_LT(end, 80.0) << "the waves break over the shoal, not behind it";
+  const auto width = [&](double y) {
+    double w = 0.0;
+    for (double x = 60.0; x < 140.0; x += m.cell) w += foam(x, y) > 0.2f ? m.cell : 0.0;
+    return w;
+  };
+  const double near = width(end + 4.0), far = width(end + 24.0);
+  std::printf("foam behind the shoal (breaking ends at y %.1f): %.2f straight behind it 24 m on, width %.1f m 4 m on, %.1f m 24 m on\n",
+              end, foam(100.0, end + 24.0), near, far);
+  EXPECT_GT(foam(100.0, end + 24.0), 0.3f);
+  EXPECT_GT(far, near + 4.0);
 }
 
 }  // namespace

@@ -18,19 +18,24 @@ namespace houle::detail {
 /// How much of the sea at (x, y, z) with gradient (gx, gy) foam covers, for a pixel footprint (m): where
 /// the surf map says waves break, on the crests (their height against the breaking wave's amplitude)
 /// and most on their front faces (the surface falling along the waves' travel), with a thinner sheet
-/// of spent foam between them; patchy, the patches faded out as the footprint grows past them. 0
-/// outside the map (and for a NaN position).
+/// of spent foam between them; patchy, the patches faded out as the footprint grows past them. Off the
+/// map its nearest edge point's foam, but for a wall's toe; 0 for a NaN position.
 template <class A>
 inline simd::vfloat<A> foam_cover(const SurfView& m, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> z,
                                   simd::vfloat<A> gx, simd::vfloat<A> gy, simd::vfloat<A> footprint) {
   using V = simd::vfloat<A>;
   using I = simd::vint<A>;
   const V u = simd::div(x - V(m.origin_x), V(m.cell)), v = simd::div(y - V(m.origin_y), V(m.cell));
-  const auto inside = (u >= V(0.0f)) & (v >= V(0.0f)) & (u < V(m.u_end)) & (v < V(m.v_end));
-  // Lanes outside read node 0 and are dropped at the end.
-  const V us = simd::select(inside, u, V(0.0f)), vs = simd::select(inside, v, V(0.0f));
-  const I i = simd::to_int_exact(us), j = simd::to_int_exact(vs);
-  const V a = us - simd::to_float_exact(i), b = vs - simd::to_float_exact(j);
+  // Off the map the nearest point of its edge holds, as the sea's fields do beyond the domain
+  // (docs/physics.md 2.8), but not a wall's toe: the wall may end there. NaN lanes read node 0 and are
+  // dropped at the end.
+  const auto inside = (u == u) & (v == v);
+  const auto on_map = (u >= V(0.0f)) & (v >= V(0.0f)) & (u <= V(m.u_end)) & (v <= V(m.v_end));
+  const V us = clamp_as_std(simd::select(inside, u, V(0.0f)), V(0.0f), V(m.u_end));
+  const V vs = clamp_as_std(simd::select(inside, v, V(0.0f)), V(0.0f), V(m.v_end));
+  const V fi = simd::min(simd::floor_exact(us), V(m.u_end - 1.0f)), fj = simd::min(simd::floor_exact(vs), V(m.v_end - 1.0f));
+  const I i = simd::to_int_exact(fi), j = simd::to_int_exact(fj);
+  const V a = us - fi, b = vs - fj;
   const I n00 = (j * I(m.nx) + i) * I(4), n01 = n00 + I(4 * m.nx);
   // Field k (foam, dir_x, dir_y, amplitude) bilinear.
   const auto field = [&](int k) {
@@ -46,6 +51,7 @@ inline simd::vfloat<A> foam_cover(const SurfView& m, simd::vfloat<A> x, simd::vf
   const V up = clamp_as_std(simd::div(z, max_as_std(amplitude, V(0.05f))) + V(0.3f), V(0.0f), V(1.0f));
   const V crest = up * up * (V(3.0f) - V(2.0f) * up);
   const V moving = dir_x * dir_x + dir_y * dir_y;  // 0 at a wall's toe: every crest foams
+  const auto carried = on_map | (moving > V(0.25f));
   const V front = simd::select(moving > V(0.25f),
                                clamp_as_std(V(-5.0f) * (gx * dir_x + gy * dir_y), V(0.0f), V(1.0f)), V(1.0f));
   const V patches = clamp_as_std(V(2.0f) - simd::div(footprint * V(8.0f), V(1.5f)), V(0.0f), V(1.0f));
@@ -53,8 +59,15 @@ inline simd::vfloat<A> foam_cover(const SurfView& m, simd::vfloat<A> x, simd::vf
   const auto patchy = patches > V(0.0f);
   const V noise = simd::any(patchy) ? lattice_noise<A>(x * V(0.8f) + V(5.0f), y * V(0.8f)) : V(0.0f);
   const V texture = simd::select(patchy, V(0.7f) + V(0.3f) * patches * noise, V(0.7f));
-  const V cover = clamp_as_std(foam * (V(0.2f) + crest * (V(0.3f) + V(0.7f) * front)) * texture, V(0.0f), V(1.0f));
-  return simd::select(foaming, cover, V(0.0f));
+  // Thinning foam (carried behind the break, 0 < foam < 1) breaks up into lace: a coarser noise of
+  // about 3 m moves it by up to what it lacks, less where it is too thin to show at all.
+  const V lace_fade = clamp_as_std(V(2.0f) - simd::div(footprint * V(2.4f), V(1.5f)), V(0.0f), V(1.0f));
+  const V thin = (V(1.0f) - foam) * min_as_std(foam * V(5.0f), V(1.0f));
+  const auto lacy = (lace_fade > V(0.0f)) & (thin > V(0.0f));
+  const V lace_noise = simd::any(lacy) ? lattice_noise<A>(x * V(0.3f) - V(11.0f), y * V(0.3f) + V(7.0f)) : V(0.0f);
+  const V laced = simd::select(lacy, clamp_as_std(foam + thin * lace_fade * lace_noise, V(0.0f), V(1.0f)), foam);
+  const V cover = clamp_as_std(laced * (V(0.2f) + crest * (V(0.3f) + V(0.7f) * front)) * texture, V(0.0f), V(1.0f));
+  return simd::select(foaming & carried, cover, V(0.0f));
 }
 
 /// foam_cover of the sea hits seen from above (side > 0) of a row, 0 elsewhere; footprint = t

@@ -37,7 +37,7 @@ void set_train_grid_time(TrainGridFrame& frame, const double* omega_t_minus_phas
 
 TrainGridFields train_grid_fields(const TrainGrid& grid, float x, float y) noexcept {
   const detail::TrainGridLanes<simd::scalar> l = detail::train_grid_lanes<simd::scalar>(grid, x, y);
-  const float phi = l.inside ? l.phi : float(double(l.phi) - grid.far_offset);
+  const float phi = grid.nx < 2 ? float(double(l.phi) - grid.far_offset) : l.phi;
   return {phi, l.b_re, l.b_im, l.kx, l.ky, l.fold, l.lean};
 }
 

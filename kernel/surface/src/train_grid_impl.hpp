@@ -16,25 +16,27 @@ namespace houle::detail {
 template <class A>
 struct TrainGridLanes {
   simd::vfloat<A> phi, b_re, b_im, kx, ky, fold, lean;
-  simd::vfloat<A> b_re_x, b_re_y, b_im_x, b_im_y;  ///< dB/dx, dB/dy within the cell (0 off the grid)
-  simd::vmask<A> inside;  ///< on the grid (phi is then the grid's; else the far field's, without far_offset)
+  simd::vfloat<A> b_re_x, b_re_y, b_im_x, b_im_y;  ///< dB/dx, dB/dy (0 along an axis clamped to the grid)
 };
 
-/// One train's fields at the points. Outside the grid phi is far_kx x + far_ky y (the caller
-/// subtracts the far field's constant, which differs between the probe and the frame).
+/// One train's fields at the points. Off the grid the nearest point of its edge goes on along its wave
+/// vector: phi grows by k . (p - edge point), the other fields stay its own (docs/physics.md 2.8), so the
+/// sea beyond the domain continues the sea at its edge. Without a grid the train is its far field,
+/// phi = far_kx x + far_ky y (the caller subtracts the far field's constant, which differs between
+/// the probe and the frame).
 template <class A>
 inline TrainGridLanes<A> train_grid_lanes(const TrainGrid& g, simd::vfloat<A> x, simd::vfloat<A> y) {
   using V = simd::vfloat<A>;
   const V zero(0.0f);
   TrainGridLanes<A> r{x * g.far_kx + y * g.far_ky, V(g.far_amplitude), zero, V(g.far_kx), V(g.far_ky),
-                      V(g.far_fold), V(g.far_lean), zero, zero, zero, zero, zero != zero};
+                      V(g.far_fold), V(g.far_lean), zero, zero, zero, zero};
   if (g.nx < 2) return r;
   const float inv_cell = 1.0f / g.cell, last_x = float(g.nx - 1), last_y = float(g.ny - 1);
   const V gx = (x - g.origin_x) * inv_cell, gy = (y - g.origin_y) * inv_cell;
-  r.inside = (gx >= 0.0f) & (gy >= 0.0f) & (gx <= last_x) & (gy <= last_y);
-  if (!simd::any(r.inside)) return r;
-  // Lanes off the grid read its corner cell (any valid cell would do): their values are not selected.
-  const V cx = simd::select(r.inside, gx, zero), cy = simd::select(r.inside, gy, zero);
+  // Clamped to the grid; NaN reads node 0 (its lanes are NaN by the phase below).
+  const auto in_x = (gx >= 0.0f) & (gx <= last_x), in_y = (gy >= 0.0f) & (gy <= last_y);
+  const V cx = simd::select(in_x, gx, simd::select(gx > last_x, V(last_x), zero));
+  const V cy = simd::select(in_y, gy, simd::select(gy > last_y, V(last_y), zero));
   const V i = simd::min(simd::floor_exact(cx), V(last_x - 1.0f)), j = simd::min(simd::floor_exact(cy), V(last_y - 1.0f));
   const V u = cx - i, v = cy - j;
   const simd::vint<A> n00 = simd::to_int_exact(j) * simd::vint<A>(std::int32_t(g.nx)) + simd::to_int_exact(i);
@@ -49,20 +51,22 @@ inline TrainGridLanes<A> train_grid_lanes(const TrainGrid& g, simd::vfloat<A> x,
     const V bottom = c.q00 + (c.q10 - c.q00) * u, top = c.q01 + (c.q11 - c.q01) * u;
     return bottom + (top - bottom) * v;
   };
-  const auto field = [&](const float* q, V outside) { return simd::select(r.inside, lerp2(corners(q)), outside); };
-  r.phi = field(g.phi, r.phi);
-  r.kx = field(g.kx, r.kx);
-  r.ky = field(g.ky, r.ky);
-  r.fold = field(g.fold, r.fold);
-  r.lean = field(g.lean, r.lean);
-  // B and its derivatives in the cell (per metre).
+  const auto field = [&](const float* q) { return lerp2(corners(q)); };
+  r.kx = field(g.kx);
+  r.ky = field(g.ky);
+  r.fold = field(g.fold);
+  r.lean = field(g.lean);
+  // Off the grid along an axis, the offset from the edge point along it (exactly 0 on the grid).
+  const V off_x = simd::select(in_x, zero, (gx - cx) * g.cell), off_y = simd::select(in_y, zero, (gy - cy) * g.cell);
+  r.phi = field(g.phi) + (r.kx * off_x + r.ky * off_y);
+  // B and its derivatives in the cell (per metre); B is constant off the grid along a clamped axis.
   const auto with_gradient = [&](const float* q, V& value, V& d_dx, V& d_dy) {
     const Corners c = corners(q);
-    value = simd::select(r.inside, lerp2(c), value);
+    value = lerp2(c);
     const V dx = ((c.q10 - c.q00) + ((c.q11 - c.q01) - (c.q10 - c.q00)) * v) * inv_cell;
     const V dy = ((c.q01 - c.q00) + ((c.q11 - c.q10) - (c.q01 - c.q00)) * u) * inv_cell;
-    d_dx = simd::select(r.inside, dx, zero);
-    d_dy = simd::select(r.inside, dy, zero);
+    d_dx = simd::select(in_x, dx, zero);
+    d_dy = simd::select(in_y, dy, zero);
   };
   with_gradient(g.b_re, r.b_re, r.b_re_x, r.b_re_y);
   with_gradient(g.b_im, r.b_im, r.b_im_x, r.b_im_y);
@@ -128,7 +132,7 @@ inline HeightFieldPoint<A> train_grid_point(const TrainGridFrame& f, simd::vfloa
       *variance = *variance + (V(1.0f) - weight * weight) * (b2 * k2 * 0.25f);
       if (!simd::any(weight > 0.0f)) continue;  // faded everywhere here: nothing to add
     }
-    const V theta = l.phi - simd::select(l.inside, V(f.time_phase[t]), V(f.far_phase[t]));
+    const V theta = l.phi - V(f.trains[t].nx < 2 ? f.far_phase[t] : f.time_phase[t]);
     V s, c;
     simd::sincos(theta, s, c);
     // w = B e^{i theta}; its derivative along an axis: e^{i theta} dB + i k w.

@@ -17,8 +17,10 @@
 // the exact derivative of h with f, l and k held locally constant and B bilinear in its cell (where
 // waves of several directions meet, B varies within a wavelength and its gradient matters).
 //
-// Outside its grid (everywhere for a train without one) a train is straight crests with the far
-// fields: phi = far_kx x + far_ky y - far_offset, B = far_amplitude.
+// Off its grid a train is its grid's nearest edge point carried on along that point's wave vector
+// (phi grows by k . offset, B, k, fold and lean stay), so the sea beyond the domain continues the sea
+// at its edge. A train without a grid is straight crests with the far fields everywhere:
+// phi = far_kx x + far_ky y - far_offset, B = far_amplitude.
 #pragma once
 #include <cstddef>
 #include <cstdint>
