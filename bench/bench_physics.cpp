@@ -10,8 +10,9 @@
 //   alone (one train: what the second thread does within a train), 1 and 2 threads (Fig. 4 also on
 //   fresh pages, as a process's first build), with the tracer's own stats as counters (the paper:
 //   < 5 s on a 180 MHz R5000, its 125 diffracted rays included), SeaSurface::build (the per-scene
-//   resampling, with each pierhead's diffracted wave) at each preset's sea_cell, and SeaSurface::eval per sample (height + gradient of the traced sea, the
-//   retessellation's kernel).
+//   resampling, with each pierhead's diffracted wave) at each preset's sea_cell, SeaSurface::surf_map
+//   (where the waves break and the foam they carry) and SeaSurface::eval per sample (height +
+//   gradient of the traced sea, the retessellation's kernel).
 // - the DWT accuracy knob: Fig. 4 with step x insertion distance, samples and rays as counters:
 //   the trace's time against its resolution.
 #include <benchmark/benchmark.h>
@@ -300,6 +301,29 @@ void bm_sea_build(benchmark::State& state, SceneId id) {
   state.SetLabel(scene_name(id));
 }
 
+// SeaSurface::surf_map at realtime's sea_cell: where the waves break and the foam they carry, once
+// per scene (docs/rendering.md 3.7).
+void bm_surf_map(benchmark::State& state, SceneId id) {
+  const houle::WaveField* f = traced(id);
+  if (!f) {
+    state.SkipWithError("tracing failed");
+    return;
+  }
+  houle::Expected<houle::SeaSurface> sea = houle::SeaSurface::build(scene(id), *f, 0.5f);
+  if (!sea) {
+    state.SkipWithError(sea.error().message.c_str());
+    return;
+  }
+  std::size_t foaming = 0;
+  for (auto _ : state) {
+    const houle::SurfMap m = sea.value().surf_map(scene(id));
+    foaming = std::size_t(std::count_if(m.foam.begin(), m.foam.end(), [](float v) { return v > 0.0f; }));
+    benchmark::DoNotOptimize(m.foam.data());
+  }
+  state.counters["foam_nodes"] = double(foaming);
+  state.SetLabel(scene_name(id));
+}
+
 // Height + gradient per sample of the traced sea (SeaSurface::eval, every train summed: what the
 // per-frame retessellation calls for each grid node), at realtime's sea_cell, 1003 random points
 // over the domain per call (an 8k+3 count), a new time per iteration.
@@ -377,6 +401,9 @@ const bool registered = [] {
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
     benchmark::RegisterBenchmark(("sea_surface_eval/" + std::string(scene_name(id))).c_str(), bm_sea_eval, id);
+    benchmark::RegisterBenchmark(("surf_map/" + std::string(scene_name(id))).c_str(), bm_surf_map, id)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
     for (const houle::WaveModelKind kind : {houle::WaveModelKind::rays, houle::WaveModelKind::parabolic}) {
       benchmark::RegisterBenchmark(("scene_build/" + std::string(scene_name(id)) + "/" + std::string(houle::wave_model_name(kind))).c_str(),
                                    bm_scene_build, id, kind)
