@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <cmath>
 #include <complex>
 #include <cstdint>
@@ -301,22 +302,29 @@ void bm_sea_build(benchmark::State& state, SceneId id) {
   state.SetLabel(scene_name(id));
 }
 
-// SeaSurface::surf_map at realtime's sea_cell: where the waves break and the foam they carry, once
-// per scene (docs/rendering.md 3.7).
-void bm_surf_map(benchmark::State& state, SceneId id) {
+// The traced sea of scene `id` at realtime's sea_cell, or none (the benchmark skipped with the error).
+std::optional<houle::SeaSurface> realtime_sea(benchmark::State& state, SceneId id) {
   const houle::WaveField* f = traced(id);
   if (!f) {
     state.SkipWithError("tracing failed");
-    return;
+    return std::nullopt;
   }
   houle::Expected<houle::SeaSurface> sea = houle::SeaSurface::build(scene(id), *f, 0.5f);
   if (!sea) {
     state.SkipWithError(sea.error().message.c_str());
-    return;
+    return std::nullopt;
   }
+  return std::move(sea.value());
+}
+
+// SeaSurface::surf_map at realtime's sea_cell: where the waves break and the foam they carry, once
+// per scene (docs/rendering.md 3.7).
+void bm_surf_map(benchmark::State& state, SceneId id) {
+  std::optional<houle::SeaSurface> sea = realtime_sea(state, id);
+  if (!sea) return;
   std::size_t foaming = 0;
   for (auto _ : state) {
-    const houle::SurfMap m = sea.value().surf_map(scene(id));
+    const houle::SurfMap m = sea->surf_map(scene(id));
     foaming = std::size_t(std::count_if(m.foam.begin(), m.foam.end(), [](float v) { return v > 0.0f; }));
     benchmark::DoNotOptimize(m.foam.data());
   }
@@ -328,16 +336,8 @@ void bm_surf_map(benchmark::State& state, SceneId id) {
 // per-frame retessellation calls for each grid node), at realtime's sea_cell, 1003 random points
 // over the domain per call (an 8k+3 count), a new time per iteration.
 void bm_sea_eval(benchmark::State& state, SceneId id) {
-  const houle::WaveField* f = traced(id);
-  if (!f) {
-    state.SkipWithError("tracing failed");
-    return;
-  }
-  houle::Expected<houle::SeaSurface> sea = houle::SeaSurface::build(scene(id), *f, 0.5f);
-  if (!sea) {
-    state.SkipWithError(sea.error().message.c_str());
-    return;
-  }
+  std::optional<houle::SeaSurface> sea = realtime_sea(state, id);
+  if (!sea) return;
   const houle::Domain& d = scene(id).domain;
   constexpr std::size_t n = 1003;
   std::vector<float> x(n), y(n), h(n), gx(n), gy(n);
@@ -346,14 +346,14 @@ void bm_sea_eval(benchmark::State& state, SceneId id) {
   for (std::size_t i = 0; i < n; ++i) x[i] = float(ux(rng)), y[i] = float(uy(rng));
   double t = 0.0;
   for (auto _ : state) {
-    sea.value().set_time(t);
-    sea.value().eval(x.data(), y.data(), n, h.data(), gx.data(), gy.data());
+    sea->set_time(t);
+    sea->eval(x.data(), y.data(), n, h.data(), gx.data(), gy.data());
     t += 1.0 / 30.0;
     benchmark::DoNotOptimize(h.data());
     benchmark::ClobberMemory();
   }
   set_item_counters(state, n);
-  state.counters["trains"] = double(sea.value().trains().size());
+  state.counters["trains"] = double(sea->trains().size());
   state.SetLabel(scene_name(id));
 }
 
