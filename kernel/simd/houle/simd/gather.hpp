@@ -51,6 +51,24 @@ inline std::int32_t signed_byte(std::int32_t w) {
 inline std::int32_t gather(const std::int32_t* table, std::int32_t index) { return table[index]; }
 inline float gather(const float* table, std::int32_t index) { return table[index]; }
 
+/// How many consecutive floats gather_window serves: 32 on AVX-512 and 16 on AVX2 (two vector loads
+/// and a permute, much cheaper than a gather, docs/design.md 10), 0 elsewhere (kernels gather there).
+template <class A>
+constexpr std::int32_t window_floats() {
+#if HOULE_SIMD_BATCHES && defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) return 32;
+#endif
+#if HOULE_SIMD_BATCHES && defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, A>) return 16;
+#endif
+  return 0;
+}
+
+/// The smallest and the largest lane.
+inline void lane_range(std::int32_t v, std::int32_t& lo, std::int32_t& hi) { lo = hi = v; }
+/// window[index] per lane (below: its batch form).
+inline float gather_window(const float* window, std::int32_t index) { return window[index]; }
+
 #if HOULE_SIMD_BATCHES
 template <class A>
 inline xsimd::batch<std::int32_t, A> to_int_exact(xsimd::batch<float, A> x) {
@@ -124,6 +142,37 @@ inline xsimd::batch<float, A> gather(const float* table, xsimd::batch<std::int32
     index.store_aligned(idx);
     for (std::size_t l = 0; l < W; ++l) out[l] = table[idx[l]];
     return xsimd::batch<float, A>::load_aligned(out);
+  }
+}
+template <class A>
+inline void lane_range(xsimd::batch<std::int32_t, A> v, std::int32_t& lo, std::int32_t& hi) {
+  constexpr std::size_t W = xsimd::batch<std::int32_t, A>::size;
+  alignas(64) std::int32_t lanes[W];
+  v.store_aligned(lanes);
+  lo = hi = lanes[0];
+  for (std::size_t l = 1; l < W; ++l) {
+    lo = lanes[l] < lo ? lanes[l] : lo;
+    hi = lanes[l] > hi ? lanes[l] : hi;
+  }
+}
+/// window[index] per lane, every index in [0, window_floats<A>()) and that many floats readable at
+/// `window`: the values gather(window, index) gives.
+template <class A>
+inline xsimd::batch<float, A> gather_window(const float* window, xsimd::batch<std::int32_t, A> index) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+    return _mm512_permutex2var_ps(_mm512_loadu_ps(window), index, _mm512_loadu_ps(window + 16));
+  } else
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, A>) {
+    const __m256 low = _mm256_permutevar8x32_ps(_mm256_loadu_ps(window), index);
+    const __m256 high = _mm256_permutevar8x32_ps(_mm256_loadu_ps(window + 8), index);
+    return _mm256_blendv_ps(low, high, _mm256_castsi256_ps(_mm256_cmpgt_epi32(index, _mm256_set1_epi32(7))));
+  } else
+#endif
+  {
+    return gather(window, index);
   }
 }
 #endif
