@@ -68,8 +68,12 @@ constexpr std::int32_t window_floats() {
 inline void lane_range(std::int32_t v, std::int32_t& lo, std::int32_t& hi) { lo = hi = v; }
 /// window[index] per lane (below: its batch form).
 inline float gather_window(const float* window, std::int32_t index) { return window[index]; }
-/// (pairs[2 index], pairs[2 index + 1]) per lane (below: its batch form).
+/// (pairs[2 index], pairs[2 index + 1]) per lane (below: its batch forms).
 inline void gather_pair(const float* pairs, std::int32_t index, float& first, float& second) {
+  first = pairs[2 * std::size_t(index)];
+  second = pairs[2 * std::size_t(index) + 1];
+}
+inline void gather_pair(const std::int32_t* pairs, std::int32_t index, std::int32_t& first, std::int32_t& second) {
   first = pairs[2 * std::size_t(index)];
   second = pairs[2 * std::size_t(index) + 1];
 }
@@ -180,6 +184,18 @@ inline xsimd::batch<float, A> gather_window(const float* window, xsimd::batch<st
     return gather(window, index);
   }
 }
+/// gather_pair lane by lane.
+template <class T, class A>
+inline void gather_pair_lanes(const T* pairs, xsimd::batch<std::int32_t, A> index, xsimd::batch<T, A>& first,
+                              xsimd::batch<T, A>& second) {
+  constexpr std::size_t W = xsimd::batch<T, A>::size;
+  alignas(64) std::int32_t idx[W];
+  alignas(64) T f[W], s[W];
+  index.store_aligned(idx);
+  for (std::size_t l = 0; l < W; ++l) gather_pair(pairs, idx[l], f[l], s[l]);
+  first = xsimd::batch<T, A>::load_aligned(f);
+  second = xsimd::batch<T, A>::load_aligned(s);
+}
 /// (pairs[2 index], pairs[2 index + 1]) per lane, index < 2^28: two neighbouring floats as one 64-bit
 /// element, so that AVX2 and AVX-512 fetch them with half the gathered elements of two float
 /// gathers (a gather's cost is per element, docs/design.md 10); the others load lane by lane.
@@ -212,13 +228,22 @@ inline void gather_pair(const float* pairs, xsimd::batch<std::int32_t, A> index,
     return;
   }
 #endif
-  constexpr std::size_t W = xsimd::batch<float, A>::size;
-  alignas(64) std::int32_t idx[W];
-  alignas(64) float f[W], s[W];
-  index.store_aligned(idx);
-  for (std::size_t l = 0; l < W; ++l) gather_pair(pairs, idx[l], f[l], s[l]);
-  first = xsimd::batch<float, A>::load_aligned(f);
-  second = xsimd::batch<float, A>::load_aligned(s);
+  gather_pair_lanes(pairs, index, first, second);
+}
+/// The same for int32 pairs: on AVX2 and AVX-512 the float pairs' instructions, which only move bits.
+template <class A>
+inline void gather_pair(const std::int32_t* pairs, xsimd::batch<std::int32_t, A> index, xsimd::batch<std::int32_t, A>& first,
+                        xsimd::batch<std::int32_t, A>& second) {
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, A> || std::is_base_of_v<xsimd::avx512f, A>) {
+    xsimd::batch<float, A> f, s;
+    gather_pair(reinterpret_cast<const float*>(pairs), index, f, s);
+    first = bitcast_to_int(f);
+    second = bitcast_to_int(s);
+    return;
+  }
+#endif
+  gather_pair_lanes(pairs, index, first, second);
 }
 #endif
 
