@@ -19,6 +19,20 @@ using houle::SurfaceFrameConfig;
 
 using houle::test::coastal_waves;
 
+/// 4 levels of 128 cells.
+SurfaceFrameConfig small_config() {
+  SurfaceFrameConfig cfg;
+  cfg.levels = 4;
+  cfg.cells = 128;
+  return cfg;
+}
+
+/// A SurfaceSampler of the GerstnerFrame its context points to, unfiltered.
+void gerstner_sampler(void* c, const houle::SurfaceSamples& s) noexcept {
+  houle::gerstner_eval(*static_cast<const houle::GerstnerFrame*>(c), s.x, s.y, s.n, {s.height, s.grad_x, s.grad_y});
+  std::fill(s.slope_variance, s.slope_variance + s.n, 0.0f);
+}
+
 SurfaceFrame make_frame(const SurfaceFrameConfig& config = {}) {
   auto f = SurfaceFrame::create(config);
   EXPECT_TRUE(f.ok()) << f.error().field << ": " << f.error().message;
@@ -93,9 +107,7 @@ TEST(SurfaceFrame, GerstnerFillEqualsDirectEvaluationAtNodes) {
   // Every filled node holds gerstner_eval's bits, except in each level's outer band, where it holds
   // the morph h + w (p - h) toward the next level's bilinear surface p (w = smoothstep of the
   // Chebyshev distance across the band, reaching 1 a cell before the level's reach).
-  SurfaceFrameConfig cfg;
-  cfg.levels = 4;
-  cfg.cells = 128;
+  SurfaceFrameConfig cfg = small_config();
   SurfaceFrame f = make_frame(cfg);
   const auto waves = coastal_waves();
   const auto frame = houle::make_gerstner_frame(waves, 12.25);
@@ -220,9 +232,7 @@ TEST(SurfaceFrame, TileBoundsBoundTheMorphedBilinearSurface) {
 }
 
 TEST(SurfaceFrame, SlabBoundsEverySampleIncludingFarPlaneAndNoise) {
-  SurfaceFrameConfig cfg;
-  cfg.levels = 4;
-  cfg.cells = 128;
+  SurfaceFrameConfig cfg = small_config();
   cfg.far_height = 0.0f;
   SurfaceFrame f = make_frame(cfg);
   const auto frame = houle::make_gerstner_frame(coastal_waves(), 8.0);
@@ -331,23 +341,17 @@ TEST(SurfaceFrame, SamplersAreToldWhatTheNodesCanHold) {
 // its threads), parts run in any order, give the very frame of the one-piece fill: nodes, morph and
 // bounds.
 TEST(SurfaceFrame, FillInPartsEqualsTheWholeFill) {
-  SurfaceFrameConfig cfg;
-  cfg.levels = 4;
-  cfg.cells = 128;
+  SurfaceFrameConfig cfg = small_config();
   const auto waves = houle::make_gerstner_frame(coastal_waves(), 2.5);
   ASSERT_TRUE(waves.ok());
   SurfaceFrame whole = make_frame(cfg);
   whole.begin_frame(7.0f, -3.0f);
   houle::fill_gerstner(whole, waves.value());
-  const auto sampler = [](void* c, const houle::SurfaceSamples& s) noexcept {
-    houle::gerstner_eval(*static_cast<const houle::GerstnerFrame*>(c), s.x, s.y, s.n, {s.height, s.grad_x, s.grad_y});
-    std::fill(s.slope_variance, s.slope_variance + s.n, 0.0f);
-  };
   for (unsigned parts : {2u, 3u, SurfaceFrame::max_fill_parts}) {
     SurfaceFrame split = make_frame(cfg);
     split.begin_frame(7.0f, -3.0f);
     split.begin_fill();
-    for (unsigned p = parts; p-- > 0;) split.fill_part(sampler, const_cast<houle::GerstnerFrame*>(&waves.value()), p, parts);
+    for (unsigned p = parts; p-- > 0;) split.fill_part(gerstner_sampler, const_cast<houle::GerstnerFrame*>(&waves.value()), p, parts);
     for (unsigned p = parts; p-- > 0;) split.morph_part(p, parts);
     for (unsigned p = 0; p < parts; ++p) split.bound_part(p, parts);
     split.finish_frame();
@@ -369,6 +373,51 @@ TEST(SurfaceFrame, FillInPartsEqualsTheWholeFill) {
     }
     EXPECT_EQ(whole.z_min(), split.z_min());
     EXPECT_EQ(whole.z_max(), split.z_max());
+  }
+}
+
+// The marcher reads a cell's two nodes of a row as one pair (SurfaceFrameView::height_pairs): for every
+// cell of every filled tile, both rows' pairs hold the final (morphed) heights, after a fill restricted
+// to the view in one part or in several.
+TEST(SurfaceFrame, HeightPairsHoldTheHeightsOfEveryFilledCell) {
+  SurfaceFrameConfig cfg = small_config();
+  const auto waves = houle::make_gerstner_frame(coastal_waves(), 1.5);
+  ASSERT_TRUE(waves.ok());
+  // Looking north, then south: the view's edge among the tile rows lies on either side of the camera.
+  for (unsigned parts : {1u, 3u}) {
+    const float north = parts == 1 ? 1.0f : -1.0f;
+    auto cam = houle::make_camera({{3.0f, 4.0f, 12.0f}, {3.0f, 4.0f + 36.0f * north, 0.0f}, {0.0f, 0.0f, 1.0f}, 1.0f, 320, 180});
+    ASSERT_TRUE(cam.ok());
+    SurfaceFrame f = make_frame(cfg);
+    f.begin_frame(3.0f, 4.0f);
+    f.restrict_to_view(cam.value());
+    f.begin_fill();
+    for (unsigned p = 0; p < parts; ++p) f.fill_part(gerstner_sampler, const_cast<houle::GerstnerFrame*>(&waves.value()), p, parts);
+    for (unsigned p = 0; p < parts; ++p) f.morph_part(p, parts);
+    for (unsigned p = 0; p < parts; ++p) f.bound_part(p, parts);
+    f.finish_frame();
+    const houle::SurfaceFrameView v = f.view();
+    const std::uint32_t tc = cfg.tile_cells;
+    std::size_t cells = 0, filled = 0;
+    for (std::uint32_t l = 0; l < cfg.levels; ++l) {
+      const float* h = f.heights(l);
+      const float* pairs = v.height_pairs + 2 * l * v.level_floats;
+      for (std::uint32_t tj = 0; tj < v.tiles_per_side; ++tj) {
+        for (std::uint32_t ti = 0; ti < v.tiles_per_side; ++ti) {
+          if (!f.tile_filled(l, ti, tj)) continue;
+          ++filled;
+          for (std::uint32_t j = tj * tc; j <= (tj + 1) * tc; ++j) {
+            for (std::uint32_t i = ti * tc; i < (ti + 1) * tc; ++i, ++cells) {
+              const std::size_t k = j * v.stride + i;
+              ASSERT_EQ(pairs[2 * k], h[k]) << parts << " parts, level " << l << " node " << i << ", " << j;
+              ASSERT_EQ(pairs[2 * k + 1], h[k + 1]) << parts << " parts, level " << l << " node " << i << ", " << j;
+            }
+          }
+        }
+      }
+    }
+    EXPECT_LT(filled, std::size_t(cfg.levels) * v.tiles_per_side * v.tiles_per_side);  // the view left tiles out
+    EXPECT_GT(cells, 0u);
   }
 }
 

@@ -59,6 +59,10 @@ void fill_lattice(CapillaryLattice& t) {
     t.words[(period + 1) * period + c] = t.words[period + c];  // rows 257, 258 <- lattice rows 0, 1
     t.words[(period + 2) * period + c] = t.words[2 * period + c];
   }
+  for (std::size_t k = 0; k < capillary_pair_words / 2; ++k) {
+    t.pairs[2 * k] = t.words[k];
+    t.pairs[2 * k + 1] = t.words[k + period];
+  }
   const double n = double(period) * period, mean = double(s1) / n;
   t.value_variance = (double(s2) / n - mean * mean) / (127.0 * 127.0);
 }

@@ -5,7 +5,9 @@
 // octave instead of 16 (gathers cost ~1.4 cycles per element, docs/design.md 10; with packing they are
 // ~20% of this kernel's time on Zen 3, the interpolation with its gradient is the rest). The table
 // has 259 rows (row p holds lattice row p - 1 mod 256), so the 4 rows of a sample are base + 0..3
-// rows without wrapping each one. Only +, -, * and exact conversions: every ISA gives the scalar bits.
+// rows without wrapping each one; the kernel reads them as two pairs of rows (p, p + 1), each one
+// 64-bit element: half the gathered elements. Only +, -, * and exact conversions: every ISA gives the
+// scalar bits.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -20,9 +22,13 @@ namespace houle::detail {
 
 inline constexpr int capillary_period = CapillaryFrame::period;
 inline constexpr std::size_t capillary_lattice_words = std::size_t(capillary_period + 3) * capillary_period;
-/// Word (p, c) = bytes (q[c-1], q[c], q[c+1], q[c+2]) of lattice row p - 1, columns mod 256.
+/// Row pairs (p, p + 1) for p = 0..257: the first two rows of a sample start at most at row 255.
+inline constexpr std::size_t capillary_pair_words = 2 * std::size_t(capillary_period + 2) * capillary_period;
+/// Word (p, c) = bytes (q[c-1], q[c], q[c+1], q[c+2]) of lattice row p - 1, columns mod 256;
+/// pairs[2 (p period + c) + r] = word (p + r, c), r = 0, 1.
 struct CapillaryLattice {
   std::int32_t words[capillary_lattice_words];
+  std::int32_t pairs[capillary_pair_words];
   double value_variance;  ///< of q / 127 over one period: the slope statistics scale with it
 };
 /// Built on first use (thread-safe, in capillary.cpp: no ISA object holds a copy or a constructor).
@@ -81,13 +87,12 @@ inline void capillary_row(I word, const RowWeights<V, Grad>& wx, V& r, V& dr) {
   if constexpr (Grad) dr = (wx.d0 * q0 + wx.d1 * q1) + (wx.d2 * q2 + wx.d3 * q3);
 }
 
-/// Adds lattice row `Row` of the sample's 4 x 4 neighbourhood, weighted in y, to n (and, with Grad,
-/// to dn/du, dn/dv).
+/// Adds lattice row `Row` of the sample's 4 x 4 neighbourhood (its word), weighted in y, to n (and,
+/// with Grad, to dn/du, dn/dv).
 template <int Row, bool Grad, class V, class I>
-inline void capillary_add_row(const std::int32_t* lattice, I base, const RowWeights<V, Grad>& wu,
-                              const CatmullRom2<V>& wv, V& n, V& nu, V& nv) {
+inline void capillary_add_row(I word, const RowWeights<V, Grad>& wu, const CatmullRom2<V>& wv, V& n, V& nu, V& nv) {
   V r, dr;
-  capillary_row<Grad>(simd::gather(lattice + Row * capillary_period, base), wu, r, dr);
+  capillary_row<Grad>(word, wu, r, dr);
   const V w = wv.template w<Row>();
   if constexpr (Row == 0) {
     n = w * r;
@@ -108,7 +113,7 @@ inline void capillary_add_row(const std::int32_t* lattice, I base, const RowWeig
 
 /// Height and (with Grad; otherwise gradient 0) gradient at a batch of points.
 template <class A, bool Grad>
-inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, const std::int32_t* lattice, simd::vfloat<A> x,
+inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, const std::int32_t* pairs, simd::vfloat<A> x,
                                          simd::vfloat<A> y, simd::vfloat<A> level) {
   using V = simd::vfloat<A>;
   using I = simd::vint<A>;
@@ -140,11 +145,14 @@ inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, const std::int
     // Two's-complement & 255 is the cell modulo the period, also for negative cells.
     const I base = ((simd::to_int_exact(cv) & 255) << 8) | (simd::to_int_exact(cu) & 255);
     // Row by row, each y-weight made when needed: fewer live registers than all 16 weights at once.
+    I w0, w1, w2, w3;
+    simd::gather_pair(pairs, base, w0, w1);
+    simd::gather_pair(pairs + 4 * capillary_period, base, w2, w3);  // rows + 2
     V n, nu, nv;
-    capillary_add_row<0>(lattice, base, wu, wv, n, nu, nv);
-    capillary_add_row<1>(lattice, base, wu, wv, n, nu, nv);
-    capillary_add_row<2>(lattice, base, wu, wv, n, nu, nv);
-    capillary_add_row<3>(lattice, base, wu, wv, n, nu, nv);
+    capillary_add_row<0>(w0, wu, wv, n, nu, nv);
+    capillary_add_row<1>(w1, wu, wv, n, nu, nv);
+    capillary_add_row<2>(w2, wu, wv, n, nu, nv);
+    capillary_add_row<3>(w3, wu, wv, n, nu, nv);
 
     const V aw = weight * f.value_scale[i];
     h = h + aw * n;
@@ -160,16 +168,16 @@ inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, const std::int
 template <class A, bool Grad>
 inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y,
                                          simd::vfloat<A> level) {
-  return capillary_point<A, Grad>(f, capillary_lattice().words, x, y, level);
+  return capillary_point<A, Grad>(f, capillary_lattice().pairs, x, y, level);
 }
 
 template <class A, bool Grad>
 void capillary_eval_points(const CapillaryFrame& f, const float* x, const float* y, const float* level, std::size_t n,
                            float* h, float* gx, float* gy) {
-  const std::int32_t* lattice = capillary_lattice().words;
+  const std::int32_t* pairs = capillary_lattice().pairs;
   // Padding lanes of the tail have level 0, so they add no octave and no cost.
   simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
-    const CapillaryPoint<A> p = capillary_point<A, Grad>(f, lattice, b.load(x), b.load(y), b.load(level));
+    const CapillaryPoint<A> p = capillary_point<A, Grad>(f, pairs, b.load(x), b.load(y), b.load(level));
     b.store(h, p.height);
     if constexpr (Grad) {
       b.store(gx, p.grad_x);

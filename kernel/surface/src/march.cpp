@@ -71,6 +71,7 @@ detail::MarchContext make_context(const SurfaceFrame& frame, const MarchParams& 
   const SurfaceFrameView v = frame.view();
   detail::MarchContext c;
   c.height = v.height;
+  c.height_pairs = v.height_pairs;
   c.grad_x = v.grad_x;
   c.grad_y = v.grad_y;
   c.slope_variance = v.slope_variance;

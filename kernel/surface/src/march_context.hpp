@@ -13,6 +13,7 @@ namespace houle::detail {
 struct MarchContext {
   // Surface grid (SurfaceFrameView).
   const float* height = nullptr;
+  const float* height_pairs = nullptr;  ///< SurfaceFrameView::height_pairs
   const float* grad_x = nullptr;
   const float* grad_y = nullptr;
   const float* slope_variance = nullptr;

@@ -104,6 +104,17 @@ HOULE_MARCH_INLINE simd::vfloat<A> bilinear(const float* field, std::size_t stri
   return a + t.fv * (b - a);
 }
 
+/// The height, bilinear as above, from the height pairs: two 64-bit gathers instead of four.
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> bilinear_height(const MarchContext& c, const GridTap<A>& t) {
+  using V = simd::vfloat<A>;
+  V h00, h10, h01, h11;
+  simd::gather_pair(c.height_pairs, t.node, h00, h10);
+  simd::gather_pair(c.height_pairs + 2 * c.stride, t.node, h01, h11);
+  const V a = h00 + t.fu * (h10 - h00), b = h01 + t.fu * (h11 - h01);
+  return a + t.fv * (b - a);
+}
+
 /// The level read at a point: level l for reach_{l-1} < r <= reach_l, r the Chebyshev distance to the
 /// centre; beyond the last reach, the far plane. (The SurfaceFrame morphs each level's outer band into
 /// the next level, so one level is read per sample and H is still continuous.)
@@ -146,6 +157,12 @@ template <class A>
 HOULE_MARCH_INLINE simd::vfloat<A> grid_field(const MarchContext& c, const float* field, const Located<A>& s,
                                               float far_value) {
   return simd::select(s.far, simd::vfloat<A>(far_value), bilinear<A>(field, c.stride, s.tap));
+}
+
+/// The grid's height at a located point; the far plane beyond the levels.
+template <class A>
+HOULE_MARCH_INLINE simd::vfloat<A> grid_height(const MarchContext& c, const Located<A>& s) {
+  return simd::select(s.far, simd::vfloat<A>(c.far_height), bilinear_height<A>(c, s.tap));
 }
 
 /// Bounds valid from the point along the ray up to s_box (m along the ray).
@@ -292,7 +309,7 @@ HOULE_MARCH_INLINE simd::vfloat<A> full_g(const MarchContext& c, const MarchRay<
   using V = simd::vfloat<A>;
   const V px = r.ox + t * r.dx, py = r.oy + t * r.dy, pz = r.oz + t * r.dz;
   const Located<A> s = locate<A>(c, px, py);
-  V f = pz - grid_field<A>(c, c.height, s, c.far_height);
+  V f = pz - grid_height<A>(c, s);
   if (c.noise != nullptr) {
     const V level = noise_level<A>(c, r.level_offset, c.cone_width + t * c.pixel_angle);
     f = f - noise_height<A>(*c.noise, px, py, level);
@@ -335,7 +352,7 @@ inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, si
   for (std::int32_t it = 0; it < c.max_steps && simd::any(active); ++it) {
     const V px = r.ox + t * r.dx, py = r.oy + t * r.dy, pz = r.oz + t * r.dz;
     const Located<A> s = locate<A>(c, px, py);
-    const V f_grid = pz - grid_field<A>(c, c.height, s, c.far_height);
+    const V f_grid = pz - grid_height<A>(c, s);
     const V cone = c.cone_width + t * c.pixel_angle;
     // g: sigma f when it is known; outside the noise envelope a bound with the right sign.
     V g, g_env, noise_h = zero, noise_s = zero, level_term = zero;

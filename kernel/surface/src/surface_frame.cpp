@@ -31,10 +31,10 @@ Layout layout(const SurfaceFrameConfig& c) {
   l.tiles = c.cells / c.tile_cells;
   l.tile_floats = round_up(std::size_t(c.levels) * l.tiles * l.tiles, align_floats);
   l.flag_floats = round_up((std::size_t(c.levels) * l.tiles * l.tiles + 3) / 4, align_floats);  // one byte per tile
-  // height, grad_x, grad_y, slope variance; four tile arrays; the tiles' fill flags; the fill's x and y rows per part;
-  // per part, the bounds pass's 4 column arrays, with a batch of slack after each (the column kernel
-  // works in whole batches).
-  l.total_floats = 4 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats +
+  // height, grad_x, grad_y, slope variance, height pairs (two floats a node); four tile arrays; the tiles'
+  // fill flags; the fill's x and y rows per part; per part, the bounds pass's 4 column arrays, with a
+  // batch of slack after each (the column kernel works in whole batches).
+  l.total_floats = 6 * c.levels * l.level_floats + 4 * l.tile_floats + l.flag_floats +
                    2 * SurfaceFrame::max_fill_parts * l.stride +
                    SurfaceFrame::max_fill_parts * 4 * (l.stride + align_floats);
   return l;
@@ -63,6 +63,13 @@ Expected<void> check(const SurfaceFrameConfig& c) {
     return Error{"surface", "levels * (cells + 1)^2 too large (node offsets must stay below 2^24)"};
   }
   return {};
+}
+
+/// The tile rows node row j of a level belongs to: `upper` (j's own) and `lower` (the one below, on a
+/// tile boundary; else the same).
+void row_tiles(std::uint32_t j, std::uint32_t tile_cells, std::uint32_t tiles, std::uint32_t& upper, std::uint32_t& lower) {
+  upper = std::min(j / tile_cells, tiles - 1);
+  lower = j % tile_cells == 0 && j > 0 ? j / tile_cells - 1 : upper;
 }
 
 /// Chebyshev distance range [lo, hi] from (cx, cy) to the points of box [x0, x1] x [y0, y1].
@@ -112,7 +119,8 @@ Expected<SurfaceFrame> SurfaceFrame::create(const SurfaceFrameConfig& config) {
   f.grad_x_ = p + grid;
   f.grad_y_ = p + 2 * grid;
   f.variance_ = p + 3 * grid;
-  f.tile_min_ = p + 4 * grid;
+  f.height_pairs_ = p + 4 * grid;
+  f.tile_min_ = p + 6 * grid;
   f.tile_max_ = f.tile_min_ + l.tile_floats;
   f.tile_sx_ = f.tile_max_ + l.tile_floats;
   f.tile_sy_ = f.tile_sx_ + l.tile_floats;
@@ -279,6 +287,7 @@ SurfaceFrameView SurfaceFrame::view() const noexcept {
   v.blend_fraction = config_.blend_fraction;
   v.far_height = config_.far_height;
   v.height = height_;
+  v.height_pairs = height_pairs_;
   v.grad_x = grad_x_;
   v.grad_y = grad_y_;
   v.slope_variance = variance_;
@@ -314,7 +323,8 @@ void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned par
     for (std::uint32_t j = 0; j < nodes; ++j, ++row_index) {
       if (row_index % parts != part) continue;
       // The tile rows this node row belongs to (two on a tile boundary); runs of needed tiles.
-      const std::uint32_t upper = std::min(j / tc, tiles_ - 1), lower = j % tc == 0 && j > 0 ? j / tc - 1 : upper;
+      std::uint32_t upper, lower;
+      row_tiles(j, tc, tiles_, upper, lower);
       const float y = s.origin_y + float(j) * s.cell;
       const std::size_t o = j * stride_;
       for (std::uint32_t ti = 0; ti < tiles_;) {
@@ -369,6 +379,14 @@ void SurfaceFrame::bound_part(unsigned part, unsigned parts) noexcept {
       if (row_index % parts == part) bound_tile_row(l, tj, part);
     }
   }
+  // The morph is done: the pairs take the final heights. Node rows round-robin, as in fill_part (a
+  // pair row reads only its own heights).
+  row_index = 0;
+  for (std::uint32_t l = 0; l < config_.levels; ++l) {
+    for (std::uint32_t j = 0; j <= config_.cells; ++j, ++row_index) {
+      if (row_index % parts == part) pair_row(l, j);
+    }
+  }
   if (part == 0) bounded_ = true;  // as morphed_ above
 }
 
@@ -418,7 +436,8 @@ void SurfaceFrame::morph_row(std::uint32_t l, std::uint32_t j) noexcept {
                               last ? nullptr : grad_y(l + 1), last ? nullptr : slope_variance(l + 1)};
   const float far_values[4] = {config_.far_height, 0.0f, 0.0f, 0.0f};
   const float dy = std::fabs(s.origin_y + float(j) * s.cell - centre_y_);
-  const std::uint32_t upper = std::min(j / tc, tiles_ - 1), lower = j % tc == 0 && j > 0 ? j / tc - 1 : upper;
+  std::uint32_t upper, lower;
+  row_tiles(j, tc, tiles_, upper, lower);
   // On a row inside the band's inner edge, the nodes more than a cell inside it in x keep their
   // values (the test below would pass them over one by one): [inner_lo, inner_hi) is skipped.
   std::uint32_t inner_lo = nodes, inner_hi = nodes;
@@ -460,6 +479,23 @@ void SurfaceFrame::morph_row(std::uint32_t l, std::uint32_t j) noexcept {
         }
       }
       fields[f][k] = fields[f][k] + w * (p - fields[f][k]);
+    }
+  }
+}
+
+void SurfaceFrame::pair_row(std::uint32_t l, std::uint32_t j) noexcept {
+  const std::uint32_t tc = config_.tile_cells;
+  std::uint32_t upper, lower;
+  row_tiles(j, tc, tiles_, upper, lower);
+  const std::uint8_t* need = needed_ + std::size_t(l) * tiles_ * tiles_;
+  const std::size_t o = node_offset(l) + j * stride_;
+  const float* h = height_ + o;
+  float* pairs = height_pairs_ + 2 * o;
+  for (std::uint32_t ti = 0; ti < tiles_; ++ti) {
+    if (need[upper * tiles_ + ti] == 0 && need[lower * tiles_ + ti] == 0) continue;
+    for (std::size_t i = std::size_t(ti) * tc; i < std::size_t(ti + 1) * tc; ++i) {
+      pairs[2 * i] = h[i];
+      pairs[2 * i + 1] = h[i + 1];
     }
   }
 }

@@ -3,6 +3,7 @@
 #pragma once
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 
 #include "houle/surface/node_footprint.hpp"
 #include "houle/surface/train_grid.hpp"
@@ -44,7 +45,27 @@ inline TrainGridLanes<A> train_grid_lanes(const TrainGrid& g, simd::vfloat<A> x,
   struct Corners {
     V q00, q10, q01, q11;
   };
+  // Along a row of the surface frame, a batch's cells often lie within a few nodes of each other:
+  // then each corner comes from a window of the field (two loads and a permute), not a gather
+  // (docs/design.md 10). The same values, so the same bits as the scalar path.
+  std::int32_t window = -1;  // the first node of the window, or -1: gather
+  if constexpr (simd::window_floats<A>() > 0) {
+    std::int32_t lo, hi;
+    simd::lane_range(n00, lo, hi);
+    const std::int64_t nodes = std::int64_t(g.nx) * g.ny;
+    if (hi - lo + 1 < simd::window_floats<A>() && std::int64_t(lo) + std::int64_t(row) + simd::window_floats<A>() <= nodes) {
+      window = lo;
+    }
+  }
   const auto corners = [&](const float* q) {
+    if constexpr (simd::window_floats<A>() > 0) {
+      if (window >= 0) {
+        const simd::vint<A> o = n00 - simd::vint<A>(window), o1 = o + simd::vint<A>(1);
+        const float *w0 = q + window, *w1 = w0 + row;
+        return Corners{simd::gather_window(w0, o), simd::gather_window(w0, o1), simd::gather_window(w1, o),
+                       simd::gather_window(w1, o1)};
+      }
+    }
     return Corners{simd::gather(q, n00), simd::gather(q + 1, n00), simd::gather(q + row, n00), simd::gather(q + row + 1, n00)};
   };
   const auto lerp2 = [&](const Corners& c) {

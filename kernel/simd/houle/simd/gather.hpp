@@ -51,6 +51,33 @@ inline std::int32_t signed_byte(std::int32_t w) {
 inline std::int32_t gather(const std::int32_t* table, std::int32_t index) { return table[index]; }
 inline float gather(const float* table, std::int32_t index) { return table[index]; }
 
+/// How many consecutive floats gather_window serves: 32 on AVX-512 and 16 on AVX2 (two vector loads
+/// and a permute, much cheaper than a gather, docs/design.md 10), 0 elsewhere (kernels gather there).
+template <class A>
+constexpr std::int32_t window_floats() {
+#if HOULE_SIMD_BATCHES && defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) return 32;
+#endif
+#if HOULE_SIMD_BATCHES && defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, A>) return 16;
+#endif
+  return 0;
+}
+
+/// The smallest and the largest lane.
+inline void lane_range(std::int32_t v, std::int32_t& lo, std::int32_t& hi) { lo = hi = v; }
+/// window[index] per lane (below: its batch form).
+inline float gather_window(const float* window, std::int32_t index) { return window[index]; }
+/// (pairs[2 index], pairs[2 index + 1]) per lane (below: its batch forms).
+inline void gather_pair(const float* pairs, std::int32_t index, float& first, float& second) {
+  first = pairs[2 * std::size_t(index)];
+  second = pairs[2 * std::size_t(index) + 1];
+}
+inline void gather_pair(const std::int32_t* pairs, std::int32_t index, std::int32_t& first, std::int32_t& second) {
+  first = pairs[2 * std::size_t(index)];
+  second = pairs[2 * std::size_t(index) + 1];
+}
+
 #if HOULE_SIMD_BATCHES
 template <class A>
 inline xsimd::batch<std::int32_t, A> to_int_exact(xsimd::batch<float, A> x) {
@@ -125,6 +152,98 @@ inline xsimd::batch<float, A> gather(const float* table, xsimd::batch<std::int32
     for (std::size_t l = 0; l < W; ++l) out[l] = table[idx[l]];
     return xsimd::batch<float, A>::load_aligned(out);
   }
+}
+template <class A>
+inline void lane_range(xsimd::batch<std::int32_t, A> v, std::int32_t& lo, std::int32_t& hi) {
+  constexpr std::size_t W = xsimd::batch<std::int32_t, A>::size;
+  alignas(64) std::int32_t lanes[W];
+  v.store_aligned(lanes);
+  lo = hi = lanes[0];
+  for (std::size_t l = 1; l < W; ++l) {
+    lo = lanes[l] < lo ? lanes[l] : lo;
+    hi = lanes[l] > hi ? lanes[l] : hi;
+  }
+}
+/// window[index] per lane, every index in [0, window_floats<A>()) and that many floats readable at
+/// `window`: the values gather(window, index) gives.
+template <class A>
+inline xsimd::batch<float, A> gather_window(const float* window, xsimd::batch<std::int32_t, A> index) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+    return _mm512_permutex2var_ps(_mm512_loadu_ps(window), index, _mm512_loadu_ps(window + 16));
+  } else
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, A>) {
+    const __m256 low = _mm256_permutevar8x32_ps(_mm256_loadu_ps(window), index);
+    const __m256 high = _mm256_permutevar8x32_ps(_mm256_loadu_ps(window + 8), index);
+    return _mm256_blendv_ps(low, high, _mm256_castsi256_ps(_mm256_cmpgt_epi32(index, _mm256_set1_epi32(7))));
+  } else
+#endif
+  {
+    return gather(window, index);
+  }
+}
+/// gather_pair lane by lane.
+template <class T, class A>
+inline void gather_pair_lanes(const T* pairs, xsimd::batch<std::int32_t, A> index, xsimd::batch<T, A>& first,
+                              xsimd::batch<T, A>& second) {
+  constexpr std::size_t W = xsimd::batch<T, A>::size;
+  alignas(64) std::int32_t idx[W];
+  alignas(64) T f[W], s[W];
+  index.store_aligned(idx);
+  for (std::size_t l = 0; l < W; ++l) gather_pair(pairs, idx[l], f[l], s[l]);
+  first = xsimd::batch<T, A>::load_aligned(f);
+  second = xsimd::batch<T, A>::load_aligned(s);
+}
+/// (pairs[2 index], pairs[2 index + 1]) per lane, index < 2^28: two neighbouring floats as one 64-bit
+/// element, so that AVX2 and AVX-512 fetch them with half the gathered elements of two float
+/// gathers (a gather's cost is per element, docs/design.md 10); the others load lane by lane.
+template <class A>
+inline void gather_pair(const float* pairs, xsimd::batch<std::int32_t, A> index, xsimd::batch<float, A>& first,
+                        xsimd::batch<float, A>& second) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+    // The masked forms: the plain ones' _mm512_undefined_pd trips gcc 12's -Wuninitialized.
+    const __m512 a = _mm512_castpd_ps(_mm512_mask_i32gather_pd(_mm512_setzero_pd(), static_cast<__mmask8>(0xFF),
+                                                               _mm512_castsi512_si256(index), pairs, 8));
+    const __m512 b = _mm512_castpd_ps(_mm512_mask_i32gather_pd(_mm512_setzero_pd(), static_cast<__mmask8>(0xFF),
+                                                               _mm512_extracti64x4_epi64(index, 1), pairs, 8));
+    first = _mm512_permutex2var_ps(a, _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30), b);
+    second = _mm512_permutex2var_ps(a, _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31), b);
+    return;
+  }
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, A>) {
+    // The masked form, as above (here _mm256_undefined_pd).
+    const double* p = reinterpret_cast<const double*>(pairs);
+    const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+    const __m256 a = _mm256_castpd_ps(_mm256_mask_i32gather_pd(_mm256_setzero_pd(), p, _mm256_castsi256_si128(index), all, 8));
+    const __m256 b = _mm256_castpd_ps(_mm256_mask_i32gather_pd(_mm256_setzero_pd(), p, _mm256_extracti128_si256(index, 1), all, 8));
+    // Per 128-bit half, (a0 a2 b0 b2) and (a1 a3 b1 b3); then the halves' middle 64-bit elements swap.
+    const __m256 even = _mm256_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)), odd = _mm256_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1));
+    first = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(even), _MM_SHUFFLE(3, 1, 2, 0)));
+    second = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(odd), _MM_SHUFFLE(3, 1, 2, 0)));
+    return;
+  }
+#endif
+  gather_pair_lanes(pairs, index, first, second);
+}
+/// The same for int32 pairs: on AVX2 and AVX-512 the float pairs' instructions, which only move bits.
+template <class A>
+inline void gather_pair(const std::int32_t* pairs, xsimd::batch<std::int32_t, A> index, xsimd::batch<std::int32_t, A>& first,
+                        xsimd::batch<std::int32_t, A>& second) {
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, A> || std::is_base_of_v<xsimd::avx512f, A>) {
+    xsimd::batch<float, A> f, s;
+    gather_pair(reinterpret_cast<const float*>(pairs), index, f, s);
+    first = bitcast_to_int(f);
+    second = bitcast_to_int(s);
+    return;
+  }
+#endif
+  gather_pair_lanes(pairs, index, first, second);
 }
 #endif
 

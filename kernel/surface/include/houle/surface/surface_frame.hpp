@@ -77,6 +77,9 @@ struct SurfaceFrameView {
   float centre_x = 0.0f, centre_y = 0.0f;  ///< m
   float blend_fraction = 0.0f, far_height = 0.0f;
   const float* height = nullptr;
+  /// Per node k of a needed tile's cells, (height[k], height[k + 1]) at elements 2k and 2k + 1: a cell's
+  /// two nodes of a row in one 64-bit gather for the marcher.
+  const float* height_pairs = nullptr;
   const float* grad_x = nullptr;
   const float* grad_y = nullptr;
   const float* slope_variance = nullptr;  ///< per node, the roughness the fill left out (SurfaceSamples)
@@ -200,6 +203,8 @@ class SurfaceFrame {
     return l * level_floats_;
   }
   void morph_row(std::uint32_t l, std::uint32_t j) noexcept;
+  /// Node row j of level l's height pairs (SurfaceFrameView::height_pairs), over the cells of needed tiles.
+  void pair_row(std::uint32_t l, std::uint32_t j) noexcept;
   /// Tile row tj of level l's own bounds, with part `part`'s column scratch.
   void bound_tile_row(std::uint32_t l, std::uint32_t tj, unsigned part) noexcept;
   /// Widens level l's tiles by the finer level's tiles inside its inner square (final ones: levels in order).
@@ -211,6 +216,7 @@ class SurfaceFrame {
   std::size_t stride_ = 0, level_floats_ = 0;
   std::uint32_t tiles_ = 0;
   float* height_ = nullptr;
+  float* height_pairs_ = nullptr;  ///< 2 floats per node
   float* grad_x_ = nullptr;
   float* grad_y_ = nullptr;
   float* variance_ = nullptr;
