@@ -200,6 +200,7 @@ struct Renderer::Impl {
   const SurfaceFrame* surface = nullptr;
   const CapillaryFrame* noise = nullptr;
   DroppedSlopeVariance dropped;  // of the noise's parameters (render()'s noise_params), for the glint
+  float dropped_max = 0.0f;      // at least dropped(level) at every level (each octave leaves out at most all its variance)
   Camera camera;
   Framebuffer* out = nullptr;
   RenderView view = RenderView::shaded;
@@ -375,12 +376,18 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     // this pixel (docs/rendering.md 5.4, 5.5).
     float glint = 0.0f;
     const Vec3 v{-d[0], -d[1], -d[2]};
-    const float variance = (noise != nullptr ? dropped(s.a[Scratch::level][i]) : 0.0f) + s.a[Scratch::rough][i];
+    const float rough = s.a[Scratch::rough][i];
     const Vec3 half = normalized({v[0] + sun[0], v[1] + sun[1], v[2] + sun[2]});
     const float cos_h = dot(n, half);
-    // Skip the lobe where it is below e^-30 of its peak (tan^2 / 2 sigma^2 > 30): most of the sea.
-    if (cos_h > 0.0f && (1.0f - cos_h * cos_h) < 60.0f * (variance + sun_disc_slope_variance) * cos_h * cos_h) {
-      glint = lit ? pi * sun_glint(n, v, sun, variance) : 0.0f;
+    // Skip the lobe where it is below e^-30 of its peak (tan^2 / 2 sigma^2 > 30): most of the sea. The
+    // test widens with the variance, so it is asked first with the most the LOD can leave out
+    // (dropped_max): most pixels then skip the sum over the octaves too.
+    const auto in_lobe = [cos_h](float variance) {
+      return cos_h > 0.0f && (1.0f - cos_h * cos_h) < 60.0f * (variance + sun_disc_slope_variance) * cos_h * cos_h;
+    };
+    if (lit && in_lobe(dropped_max + rough)) {
+      const float variance = (noise != nullptr ? dropped(s.a[Scratch::level][i]) : 0.0f) + rough;
+      if (in_lobe(variance)) glint = pi * sun_glint(n, v, sun, variance);
     }
     const LinearRgb surface_light = reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
     if (surf.nx == 0) return surface_light;
@@ -784,6 +791,7 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   r.noise = noise != nullptr && noise->octaves > 0 ? noise : nullptr;
   const CapillaryParams* params = r.noise == nullptr ? nullptr : noise_params != nullptr ? noise_params : &noise->params;
   r.dropped = params != nullptr ? DroppedSlopeVariance(*params) : DroppedSlopeVariance();
+  r.dropped_max = r.noise != nullptr ? float(double(r.dropped.octave_variance) * r.dropped.octaves) : 0.0f;
   r.camera = camera;
   // Every field of the camera, bit for bit (no padding: sizeof is the sum of the fields).
   static_assert(sizeof(Camera) == 16 * 4);
