@@ -120,8 +120,8 @@ KNOBS = {
         "no effect's share stands out from the shared machine's noise between runs (the frame with all of "
         "them measured fastest in the run below), while leaving one out changes the picture by up to 14 "
         "8-bit steps RMS (the jetty), 8 (the object reflections) or 6 (the ripples). Surf and foam have no "
-        "switch: the per-scene surf map costs the coast 15-18 ms of its build, and its per-frame cost could "
-        "not be told from noise either (houle bench, interleaved, with and without).",
+        "switch: the per-scene surf map costs the coast 28 ms of its build (houle_bench_physics "
+        "--benchmark_filter=surf_map), and its per-frame cost could not be told from noise either (houle bench, interleaved, with and without).",
     ),
     "sea_state.components": (
         "Sea-state components",
