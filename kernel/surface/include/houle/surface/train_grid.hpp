@@ -61,7 +61,8 @@ struct TrainGridFrame {
 /// Sets frame.time_phase and far_phase from each train's omega t - phase (double, any size).
 void set_train_grid_time(TrainGridFrame& frame, const double* omega_t_minus_phase) noexcept;
 
-/// One train's interpolated fields at a point (far fields outside its grid); phi not reduced.
+/// One train's interpolated fields at a point (off its grid, its nearest edge point's carried on; the far
+/// fields for a train without a grid); phi not reduced.
 struct TrainGridFields {
   float phi, b_re, b_im, kx, ky, fold, lean;
 };
