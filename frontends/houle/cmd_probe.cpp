@@ -62,7 +62,7 @@ void print_text_row(double x, double y, double t, Place place, double depth, flo
     case Place::land: std::printf("on land (floor %.2f m above still water): no waves\n", -depth); return;
     case Place::wall: std::printf("inside a wall: no water\n"); return;
     case Place::outside:
-      std::printf("outside the domain (no rays traced; each train continues as straight crests), depth %.2f m, ", depth);
+      std::printf("outside the domain (no rays traced; each train continues the wave at the edge), depth %.2f m, ", depth);
       break;
     case Place::water: std::printf("water %.2f m deep, ", depth); break;
   }
@@ -95,7 +95,7 @@ coefficient K', the wavelength, the direction of travel and the phase.
 
 where: water; land (the floor at or above still water: no waves); wall (within half its thickness
 of a wall's axis: no water); outside (outside the scene's domain, where no rays are traced and each
-train continues as straight crests; more than 100 km out is refused). depth: m below still water,
+train continues the wave at the nearest point of the domain's edge; more than 100 km out is refused). depth: m below still water,
 from the scene's floor (negative on land). height (m above still water), grad_x, grad_y: the trains
 and their reflected waves summed (capillary ripples not included). Per train: amplitude (m), relative_amplitude (A/A0), diffraction (K'), wavelength
 (m), direction_deg (travel, counter-clockwise from +x), phase (rad, in [-pi, pi]), and the amplitude

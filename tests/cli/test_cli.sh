@@ -391,7 +391,7 @@ expect probe-help 0 'x,y,t,where,depth,height,grad_x,grad_y,train,amplitude' "$h
 "$houle" probe --at 100,185 --at 150,150 --at 300,50 --at 100,60 >"$work/where.txt"
 if grep -q '^(100, 185) t=0 s: on land (floor 0.50 m above still water): no waves$' "$work/where.txt" &&
    grep -q '^(150, 150) t=0 s: inside a wall: no water$' "$work/where.txt" &&
-   grep -q '^(300, 50) t=0 s: outside the domain (no rays traced; each train continues as straight crests), depth 4.00 m, height' "$work/where.txt" &&
+   grep -q '^(300, 50) t=0 s: outside the domain (no rays traced; each train continues the wave at the edge), depth 4.00 m, height' "$work/where.txt" &&
    grep -q '^(100, 60) t=0 s: water 3.67 m deep, height' "$work/where.txt" && [ "$(grep -c '  train ' "$work/where.txt")" -eq 6 ]; then
   pass=$((pass + 1))
 else

@@ -10,8 +10,8 @@
 // edges are cut exactly at the shadow lines where a pierhead's diffracted wave takes over. The
 // carrier is the least phase offered at the node (the first wave to arrive): continuous across
 // shadow lines, so the grid interpolates smoothly. Nodes no wave reached carry B = 0. Outside the
-// domain a train continues as straight crests with its entry wavenumber and amplitude (the tracer's
-// own convention upstream of the domain).
+// domain a train is the wave at the nearest point of the domain's edge, carried on along its wave
+// vector (train_grid.hpp; upstream this is the tracer's entry wave, docs/physics.md 2.8).
 //
 // The shape is the depth-aware trochoid of train_grid.hpp: per node, once per scene, the fold
 // q k coth(kh) and the lean (fold e^{-kh}) per metre of amplitude (Airy orbits flatten into ellipses
