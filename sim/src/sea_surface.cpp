@@ -449,14 +449,16 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     reflections[r].splat(geo, g, w, off_the_face, radius, walls);
   }
 
-  // The local wave at every water node (kh by table, docs/physics.md 1.2; 0 on land).
+  // The local wave at every water node (kh by table, docs/physics.md 1.2; 0 on land). A node a hair
+  // under water takes min_depth, as the breaking cap does: k ~ sqrt(k0 / h) would otherwise grow
+  // without bound at the waterline (1e7 rad/m at h = 1e-16 m), and the carrier's phase with it.
   const double k0 = deep_water_wavenumber(rays.omega);
   std::vector<float> wavenumber(nodes, 0.0f), kh_at(nodes, 0.0f);
   for (std::size_t n = 0; n < nodes; ++n) {
     if (!(depths[n] > 0.0f)) continue;
-    const double kh = detail::kh_from_table(k0 * double(depths[n]));
+    const double h = std::max(double(depths[n]), min_depth), kh = detail::kh_from_table(k0 * h);
     kh_at[n] = float(kh);
-    wavenumber[n] = float(kh / double(depths[n]));
+    wavenumber[n] = float(kh / h);
   }
   const auto breaking_limit = [&](std::size_t n) {
     const double h = std::max(double(depths[n]), min_depth), k = double(wavenumber[n]);

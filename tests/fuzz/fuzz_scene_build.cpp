@@ -62,7 +62,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     sea->set_time(t);
     for (int j = 0; j < probes; ++j) {
       for (int i = 0; i < probes; ++i) {
-        // The domain and a margin around it (straight crests continue outside).
+        // The domain and a margin around it (outside, the sea continues its edge).
         x[i] = float(d.x_min + (d.x_max - d.x_min) * (1.2 * i / (probes - 1) - 0.1));
         y[i] = float(d.y_min + (d.y_max - d.y_min) * (1.2 * j / (probes - 1) - 0.1));
       }
