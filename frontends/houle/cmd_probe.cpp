@@ -100,7 +100,8 @@ from the scene's floor (negative on land). height (m above still water), grad_x,
 and their reflected waves summed (capillary ripples not included). Per train: amplitude (m), relative_amplitude (A/A0), diffraction (K'), wavelength
 (m), direction_deg (travel, counter-clockwise from +x), phase (rad, in [-pi, pi]), and the amplitude
 (m) of each part of its field: incident (its rays), diffracted (every pierhead's diffracted wave),
-reflected (its reflected waves); the parts add as waves, not as amplitudes. The text output
+reflected (its reflected waves); the parts add as waves, not as amplitudes, and breaking scales them
+as it scales their sum. The text output
 says plainly where a point is on land or in a wall and gives no wave values there; JSON and CSV give
 the values the surface evaluates everywhere, with `where` beside them.)");
     return 0;

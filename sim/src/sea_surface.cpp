@@ -666,7 +666,14 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     // Breaking: 1 where the wave is within 20 % of the cap (in the surf zone the tracer holds it there
     // and the resampling spreads it a little below), rising from 0 at 55 % of it.
     f.breaking[n] = float(std::clamp((std::abs(b) / limit - 0.55) / 0.25, 0.0, 1.0));
-    if (std::abs(b) > limit) b *= limit / std::abs(b);
+    if (std::abs(b) > limit) {
+      // Breaking caps the sum: each part keeps its share of what is left.
+      const double cap = limit / std::abs(b);
+      b *= cap;
+      if (parts == SeaParts::keep) {
+        for (std::vector<float>* part : {&f.incident, &f.diffracted, &f.reflected}) (*part)[n] = float(double((*part)[n]) * cap);
+      }
+    }
     f.b_re[n] = float(b.real());
     f.b_im[n] = float(b.imag());
     magnitude[n] = std::abs(b);
@@ -712,6 +719,9 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       f.fold[m] = float(fold);
       f.lean[m] = float(lean);
       if (!f.diffraction.empty()) f.diffraction[m] = float(double(f.diffraction[n]) * scale);
+      if (parts == SeaParts::keep) {
+        for (std::vector<float>* part : {&f.incident, &f.diffracted, &f.reflected}) (*part)[m] = float(double((*part)[n]) * scale);
+      }
     }
   }
   // The fold-free bound sqrt(Q^2 + L^2) <= max_fold holds for any bilinear mix of a cell's corners:

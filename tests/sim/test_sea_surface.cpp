@@ -155,6 +155,37 @@ TEST(SeaSurface, NodesAHairUnderWaterKeepAFiniteWavenumber) {
   }
 }
 
+TEST(SeaSurface, TheProbesPartsAreTheWaveAsItIsHereUpToTheWaterline) {
+  // On a bare beach the whole wave is incident: the probe's incident part must be its amplitude,
+  // in the surf zone and between the rays' end and the waterline, where the wave is carried on.
+  // Before, the parts there were 0.
+  houle::Scene scene = beach();
+  scene.domain.y_max = 160.0;
+  auto field = houle::trace_wave_field(scene);
+  ASSERT_TRUE(field.ok());
+  auto built = houle::SeaSurface::build(scene, field.value(), 0.5f, houle::SeaParts::keep);
+  ASSERT_TRUE(built.ok());
+  const houle::SeaSurface& sea = built.value();
+  int surf = 0, carried = 0;
+  for (float y = 60.0f; y < 150.0f; y += 0.25f) {
+    const houle::TrainProbe p = sea.probe(0, 50.0f, y);
+    if (p.amplitude <= 0.0f) continue;
+    // The parts interpolate magnitudes, the amplitude the complex B (whose phase turns a little
+    // across a cell): equal to 1e-3 here.
+    EXPECT_NEAR(p.incident, p.amplitude, 1e-3f * p.amplitude) << "y " << y;
+    EXPECT_EQ(p.diffracted, 0.0f);
+    EXPECT_EQ(p.reflected, 0.0f);
+    const double depth = 0.05 * (150.0 - y);
+    if (depth < field->trains[0].min_depth) {
+      ++carried;
+    } else if (p.amplitude > 0.9f * 0.39f * float(depth)) {
+      ++surf;  // held at gamma_b h / 2 = 0.39 h: breaking
+    }
+  }
+  EXPECT_GT(surf, 10);
+  EXPECT_GT(carried, 0);
+}
+
 TEST(SeaSurface, ProbeReportsTheDiffractionCoefficient) {
   // The paper's Fig. 4 (rigid wall from (0, 50) to the pierhead (50, 50), waves from the south):
   // the probe's K' against the exact Sommerfeld coefficient in the lee, on the shadow line and on

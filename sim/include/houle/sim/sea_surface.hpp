@@ -72,7 +72,8 @@ struct TrainProbe {
   float direction_deg = 0.0f;    ///< direction of travel, degrees counter-clockwise from +x
   float phase = 0.0f;            ///< rad, theta = phi - (omega t - phase) reduced to [-pi, pi]
   /// The amplitude (m) of each part of the field, with SeaParts::keep (else 0): incident rays,
-  /// diffracted waves, reflected waves. They add as waves, not as amplitudes.
+  /// diffracted waves, reflected waves. They add as waves, not as amplitudes; breaking scales them as
+  /// it scales their sum, and shoreward of the rays' end they go on with the wave.
   float incident = 0.0f, diffracted = 0.0f, reflected = 0.0f;
 };
 
