@@ -60,11 +60,19 @@ inline simd::vfloat<A> foam_cover(const SurfView& m, simd::vfloat<A> x, simd::vf
   const V noise = simd::any(patchy) ? lattice_noise<A>(x * V(0.8f) + V(5.0f), y * V(0.8f)) : V(0.0f);
   const V texture = simd::select(patchy, V(0.7f) + V(0.3f) * patches * noise, V(0.7f));
   // Thinning foam (carried behind the break, 0 < foam < 1) breaks up into lace: a coarser noise of
-  // about 3 m moves it by up to what it lacks, less where it is too thin to show at all.
+  // about 3 m moves it by up to what it lacks, less where it is too thin to show at all. Two lattices
+  // turned 45 degrees from each other (+-22.5 from the axes), so that the lace's edges favour no
+  // direction: one lattice's cut out squares seen from above. Their sum over sqrt 2 keeps one
+  // lattice's spread.
   const V lace_fade = clamp_as_std(V(2.0f) - simd::div(footprint * V(2.4f), V(1.5f)), V(0.0f), V(1.0f));
   const V thin = (V(1.0f) - foam) * min_as_std(foam * V(5.0f), V(1.0f));
   const auto lacy = (lace_fade > V(0.0f)) & (thin > V(0.0f));
-  const V lace_noise = simd::any(lacy) ? lattice_noise<A>(x * V(0.3f) - V(11.0f), y * V(0.3f) + V(7.0f)) : V(0.0f);
+  V lace_noise(0.0f);
+  if (simd::any(lacy)) {
+    const V c = x * V(0.3f * 0.92387953f), s = x * V(0.3f * 0.38268343f), cy = y * V(0.3f * 0.92387953f), sy = y * V(0.3f * 0.38268343f);
+    lace_noise = (lattice_noise<A>(c - sy - V(11.0f), s + cy + V(7.0f)) + lattice_noise<A>(c + sy + V(5.0f), cy - s - V(13.0f))) *
+                 V(0.70710678f);
+  }
   const V laced = simd::select(lacy, clamp_as_std(foam + thin * lace_fade * lace_noise, V(0.0f), V(1.0f)), foam);
   const V cover = clamp_as_std(laced * (V(0.2f) + crest * (V(0.3f) + V(0.7f) * front)) * texture, V(0.0f), V(1.0f));
   return simd::select(foaming & carried, cover, V(0.0f));
