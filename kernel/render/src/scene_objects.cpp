@@ -165,7 +165,9 @@ void SceneObjects::build_clearance() {
   // Per cell, the highest sample of the cells within clear_cells of it in each axis: the maximum of
   // the cells' corner maxima over a (2 clear_cells + 1)^2 window, separably (rows, then columns).
   const std::int64_t cx = level_nx_[0], cy = level_ny_[0];
-  std::vector<float> corner(std::size_t(cx * cy)), rows(corner.size());
+  std::vector<float>& corner = level_max_[0];
+  corner.resize(std::size_t(cx * cy));
+  std::vector<float> rows(corner.size());
   for (std::int64_t j = 0; j < cy; ++j) {
     for (std::int64_t i = 0; i < cx; ++i) {
       corner[std::size_t(j * cx + i)] =
@@ -422,15 +424,17 @@ bool SceneObjects::walk_level(int level, FloorQuery& q, double ta, double tb, st
 bool SceneObjects::hit_cell(FloorQuery& q, std::int64_t i, std::int64_t j, double ta, double tb) const noexcept {
   const SceneRay& r = q.w.r;
   const double cell = cell_, inv_cell = level_inv_size_[0];
+  const double za = r.oz + ta * r.dz, zb = r.oz + tb * r.dz;
   double h00, h10, h01, h11;
   if (i >= 0 && j >= 0 && i < nx_ - 1 && j < ny_ - 1) {
+    // Most cells a walk visits it passes above: one load of the cell's highest corner tells.
+    if (std::min(za, zb) > double(level_max_[0][std::size_t(j * (nx_ - 1) + i)])) return false;
     const float* p = z_.data() + (j * nx_ + i);
     h00 = p[0], h10 = p[1], h01 = p[nx_], h11 = p[nx_ + 1];
   } else {
     h00 = sample(i, j), h10 = sample(i + 1, j), h01 = sample(i, j + 1), h11 = sample(i + 1, j + 1);
+    if (std::min(za, zb) > std::max(std::max(h00, h10), std::max(h01, h11))) return false;
   }
-  const double za = r.oz + ta * r.dz, zb = r.oz + tb * r.dz;
-  if (std::min(za, zb) > std::max(std::max(h00, h10), std::max(h01, h11))) return false;
   // Along the ray, s = t - ta: u = u0 + du s, v = v0 + dv s in cell units, and the bilinear
   // h = h00 + e u + f v + g u v becomes a + b s + c s^2; solve z(s) - h(s) = 0.
   const double u0 = (r.ox + ta * r.dx - (origin_x_ + double(i) * cell)) * inv_cell;

@@ -176,8 +176,8 @@ class SceneObjects {
   double origin_x_ = 0.0, origin_y_ = 0.0, cell_ = 1.0;
   std::int64_t nx_ = 0, ny_ = 0;  // samples per side
   std::vector<float> z_;
-  // Maximum mipmap, levels 1 .. levels_ - 1 (level 0 is the cells themselves, bounded on the fly):
-  // block (bi, bj) of level k bounds samples bi B^k .. (bi + 1) B^k (clamped to the grid) in each axis,
+  // Maximum mipmap: level 0 per cell, the highest of its corners (with the edge samples repeated:
+  // sample()); then block (bi, bj) of level k bounds samples bi B^k .. (bi + 1) B^k (clamped to the grid) in each axis,
   // so a block bounds every cell inside it, and the clamped block of one beyond the grid bounds the
   // edge samples that the extended floor repeats there. The top level has a single block.
   int levels_ = 0;
