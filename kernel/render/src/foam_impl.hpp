@@ -60,10 +60,10 @@ inline simd::vfloat<A> foam_cover(const SurfView& m, simd::vfloat<A> x, simd::vf
   const V noise = simd::any(patchy) ? lattice_noise<A>(x * V(0.8f) + V(5.0f), y * V(0.8f)) : V(0.0f);
   const V texture = simd::select(patchy, V(0.7f) + V(0.3f) * patches * noise, V(0.7f));
   // Thinning foam (carried behind the break, 0 < foam < 1) breaks up into lace: a coarser noise of
-  // about 3 m moves it by up to what it lacks, less where it is too thin to show at all. Two lattices
-  // turned 45 degrees from each other (+-22.5 from the axes), so that the lace's edges favour no
-  // direction: one lattice's cut out squares seen from above. Their sum over sqrt 2 keeps one
-  // lattice's spread.
+  // about 3 m moves it by up to what it lacks, less where it is too thin to show at all. The noise is
+  // two lattices turned 45 degrees from each other (+-22.5 from the axes), so that the lace's edges
+  // favour no direction: from one lattice they ran along its axes and read from above as squares.
+  // Their sum over sqrt 2 keeps one lattice's spread.
   const V lace_fade = clamp_as_std(V(2.0f) - simd::div(footprint * V(2.4f), V(1.5f)), V(0.0f), V(1.0f));
   const V thin = (V(1.0f) - foam) * min_as_std(foam * V(5.0f), V(1.0f));
   const auto lacy = (lace_fade > V(0.0f)) & (thin > V(0.0f));
