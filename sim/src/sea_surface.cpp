@@ -648,6 +648,11 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
   // break as one: each ray is capped so, their sum and a diffracted wave shoaled into shallow water
   // need it too), and the shape.
   std::vector<double> magnitude(nodes, 0.0);
+  // The probe's parts at node `to`: those at `from` times `scale` (breaking caps them with their sum).
+  const auto scale_parts = [&](std::size_t from, std::size_t to, double scale) {
+    if (parts != SeaParts::keep) return;
+    for (std::vector<float>* part : {&f.incident, &f.diffracted, &f.reflected}) (*part)[to] = float(double((*part)[from]) * scale);
+  };
   for (std::size_t n = 0; n < nodes; ++n) {
     const double x = geo.x(n), y = geo.y(n);
     const double psi = double(g.far_kx) * x + double(g.far_ky) * y - g.far_offset;
@@ -667,12 +672,9 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     // and the resampling spreads it a little below), rising from 0 at 55 % of it.
     f.breaking[n] = float(std::clamp((std::abs(b) / limit - 0.55) / 0.25, 0.0, 1.0));
     if (std::abs(b) > limit) {
-      // Breaking caps the sum: each part keeps its share of what is left.
       const double cap = limit / std::abs(b);
       b *= cap;
-      if (parts == SeaParts::keep) {
-        for (std::vector<float>* part : {&f.incident, &f.diffracted, &f.reflected}) (*part)[n] = float(double((*part)[n]) * cap);
-      }
+      scale_parts(n, n, cap);
     }
     f.b_re[n] = float(b.real());
     f.b_im[n] = float(b.imag());
@@ -719,9 +721,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
       f.fold[m] = float(fold);
       f.lean[m] = float(lean);
       if (!f.diffraction.empty()) f.diffraction[m] = float(double(f.diffraction[n]) * scale);
-      if (parts == SeaParts::keep) {
-        for (std::vector<float>* part : {&f.incident, &f.diffracted, &f.reflected}) (*part)[m] = float(double((*part)[n]) * scale);
-      }
+      scale_parts(n, m, scale);
     }
   }
   // The fold-free bound sqrt(Q^2 + L^2) <= max_fold holds for any bilinear mix of a cell's corners:
