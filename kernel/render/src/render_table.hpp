@@ -6,6 +6,7 @@
 #include "foam.hpp"
 #include "houle/render/optics.hpp"
 #include "sand.hpp"
+#include "water_floor.hpp"
 
 namespace houle::detail {
 
@@ -19,6 +20,7 @@ struct RenderTable {
   void (*foam_cover_batch)(const SurfView&, const FoamInput&, std::size_t, float, float*) noexcept;
   void (*water_mix_batch)(const WaterTable&, const WaterMixInput&, std::size_t, WaterMixOutput) noexcept;
   void (*sand_albedo_batch)(const LinearRgb&, const SandInput&, std::size_t, SandOutput) noexcept;
+  void (*water_floor_batch)(const WaterFloorView&, const WaterRays&, std::size_t, WaterHits) noexcept;
 };
 
 }  // namespace houle::detail

@@ -18,6 +18,7 @@
 #include "sand_impl.hpp"
 #include "scene_objects.hpp"
 #include "shadow_mask.hpp"
+#include "water_floor.hpp"
 
 namespace houle {
 namespace {
@@ -133,7 +134,9 @@ struct alignas(64) Scratch {
   enum Array {
     dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, rough, side, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr,
     ax, ay, az, sky_r, sky_g, sky_b, foam, on_sand, qx, qy, qz, footprint, sand_r, sand_g, sand_b, lit,
-    seen_r, seen_g, seen_b, seen_t, seen_path, seen_illumination, under_r, under_g, under_b, count
+    seen_r, seen_g, seen_b, seen_t, seen_path, seen_illumination, under_r, under_g, under_b,
+    // The rays into the water (find_water_hits), packed: ray k is pixel water_pixel[k]'s.
+    wox, woy, woz, wdx, wdy, wdz, wreach, wt, wnx, wny, wnz, wleft, count
   };
   std::vector<float> memory;
   float* a[count] = {};
@@ -141,6 +144,7 @@ struct alignas(64) Scratch {
   std::vector<MarchStatus> status;
   std::vector<SurfaceHit> object;
   std::vector<SurfaceHit> under;  // what the ray into the water from a sea hit meets (shade_sample)
+  std::vector<std::uint32_t> water_pixel;
   std::int64_t march_ns = 0, intersect_ns = 0, shade_ns = 0;
   RenderCounters counters;
 
@@ -152,6 +156,7 @@ struct alignas(64) Scratch {
     status.assign(width, MarchStatus::miss);
     object.assign(width, SurfaceHit{});
     under.assign(width, SurfaceHit{});
+    water_pixel.assign(width, 0);
   }
 };
 
@@ -230,10 +235,6 @@ struct Renderer::Impl {
   LinearRgb through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept;
   LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float travelled,
                       LinearRgb sky_along_d) const noexcept;
-  SurfaceHit water_hit(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d) const noexcept {
-    return objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0,
-                                       double(std::min(underwater_reach, max_distance)));
-  }
   LinearRgb through_water_to(const SurfaceHit& h, LinearRgb albedo, const Vec3& p, const Vec3& d,
                              float illumination) const noexcept;
   void find_water_hits(Scratch& s) const noexcept;
@@ -409,30 +410,60 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
 
 /// For each pixel of the row, what its ray into the water meets (a sea hit's refracted ray, or its
 /// reflected one from below) in s.under, and where a pixel's ray meets the floor (that one, or the
-/// primary ray's; the footprint there in m) for the sand.
+/// primary ray's; the footprint there in m) for the sand. The rays into the water meet the floor a
+/// packet at a time (water_floor), then the boxes and spheres before it one by one; the few the packets
+/// leave go through SceneObjects' walk.
 void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
   float* const* a = s.a;
+  const float reach = std::min(underwater_reach, max_distance);
+  // From above the refracted ray (none under total reflection), from below the reflected one.
+  const auto hit_point = [&](std::size_t i) { return Vec3{a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]}; };
+  const auto direction = [&](std::size_t i) {
+    return a[Scratch::side][i] > 0.0f ? Vec3{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]}
+                                      : Vec3{a[Scratch::rx][i], a[Scratch::ry][i], a[Scratch::rz][i]};
+  };
+  const auto ray_of = [&](std::size_t i) {
+    return make_ray(hit_point(i), {-a[Scratch::nx][i], -a[Scratch::ny][i], -a[Scratch::nz][i]},
+                    1e-3f + 1e-4f * a[Scratch::t][i], direction(i));
+  };
+  std::size_t rays = 0;
   for (std::size_t i = 0; i < width; ++i) {
     const float side = a[Scratch::side][i];
-    SurfaceHit* h = &s.under[i];
-    Vec3 from = camera.position, d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
-    float travelled = 0.0f;
-    *h = SurfaceHit{};
-    if (side != 0.0f) {
-      // From above the refracted ray (none under total reflection), from below the reflected one.
-      from = {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]};
-      d = side > 0.0f ? Vec3{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]}
-                      : Vec3{a[Scratch::rx][i], a[Scratch::ry][i], a[Scratch::rz][i]};
-      travelled = a[Scratch::t][i];
-      if (side < 0.0f || a[Scratch::kr][i] < 1.0f) {
-        const float offset = 1e-3f + 1e-4f * travelled;
-        *h = water_hit(from, {-a[Scratch::nx][i], -a[Scratch::ny][i], -a[Scratch::nz][i]}, offset, d);
-      }
-    } else {
-      h = &s.object[i];
+    if (side == 0.0f || (side > 0.0f && !(a[Scratch::kr][i] < 1.0f))) continue;
+    const SceneRay r = ray_of(i);
+    a[Scratch::wox][rays] = float(r.ox), a[Scratch::woy][rays] = float(r.oy), a[Scratch::woz][rays] = float(r.oz);
+    a[Scratch::wdx][rays] = float(r.dx), a[Scratch::wdy][rays] = float(r.dy), a[Scratch::wdz][rays] = float(r.dz);
+    a[Scratch::wreach][rays] = reach;
+    s.water_pixel[rays++] = std::uint32_t(i);
+  }
+  detail::water_floor(objects.water_floor(),
+                      {a[Scratch::wox], a[Scratch::woy], a[Scratch::woz], a[Scratch::wdx], a[Scratch::wdy], a[Scratch::wdz],
+                       a[Scratch::wreach]},
+                      rays, {a[Scratch::wt], a[Scratch::wnx], a[Scratch::wny], a[Scratch::wnz], a[Scratch::wleft]});
+  for (std::size_t i = 0; i < width; ++i) s.under[i] = SurfaceHit{};
+  for (std::size_t k = 0; k < rays; ++k) {
+    const std::size_t i = s.water_pixel[k];
+    const SceneRay r = ray_of(i);
+    if (a[Scratch::wleft][k] > 0.0f) {
+      s.under[i] = objects.intersect_secondary(r, 0.0, double(reach));
+      continue;
     }
+    const float t_floor = a[Scratch::wt][k];
+    const SurfaceHit h = objects.intersect_objects(r, 0.0, double(std::min(t_floor, reach)));
+    if (h.kind != HitKind::none) {
+      s.under[i] = h;
+    } else if (t_floor < reach) {
+      s.under[i] = {t_floor, HitKind::floor, 0, {a[Scratch::wnx][k], a[Scratch::wny][k], a[Scratch::wnz][k]}};
+    }
+  }
+  for (std::size_t i = 0; i < width; ++i) {
+    const float side = a[Scratch::side][i];
+    const SurfaceHit* h = side != 0.0f ? &s.under[i] : &s.object[i];
+    const float travelled = side != 0.0f ? a[Scratch::t][i] : 0.0f;
     const bool floor = h->kind == HitKind::floor;
-    const Vec3 q = floor ? along(from, d, h->t) : Vec3{};
+    const Vec3 q = !floor          ? Vec3{}
+                   : side != 0.0f ? along(hit_point(i), direction(i), h->t)
+                                  : along(camera.position, {a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]}, h->t);
     a[Scratch::on_sand][i] = floor ? 1.0f : 0.0f;
     a[Scratch::qx][i] = q[0];
     a[Scratch::qy][i] = q[1];

@@ -158,7 +158,31 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
     }
   }
   s.build_clearance();
+  s.build_water_floor();
   return s;
+}
+
+void SceneObjects::build_water_floor() {
+  const std::int64_t wx = nx_ + 2, wy = ny_ + 2;  // samples -1 .. n
+  if (wx * wy > std::numeric_limits<std::int32_t>::max()) return;  // water_floor() then says no floor
+  water_z_.resize(std::size_t(wx * wy));
+  for (std::int64_t j = 0; j < wy; ++j) {
+    for (std::int64_t i = 0; i < wx; ++i) water_z_[std::size_t(j * wx + i)] = sample(i - 1, j - 1);
+  }
+  water_cell_max_.resize(std::size_t((wx - 1) * (wy - 1)));  // cells -1 .. n - 1
+  for (std::int64_t j = 0; j + 1 < wy; ++j) {
+    for (std::int64_t i = 0; i + 1 < wx; ++i) {
+      const float* p = &water_z_[std::size_t(j * wx + i)];
+      water_cell_max_[std::size_t(j * (wx - 1) + i)] = std::max(std::max(p[0], p[1]), std::max(p[wx], p[wx + 1]));
+    }
+  }
+}
+
+WaterFloorView SceneObjects::water_floor() const noexcept {
+  if (water_z_.empty()) return {};
+  constexpr float below = 1e-3f;  // as floor_span's range
+  return {water_z_.data(), water_cell_max_.data(), float(origin_x_), float(origin_y_), float(cell_), float(1.0 / cell_),
+          std::int32_t(nx_), std::int32_t(ny_), float(z_min_) - below, float(z_max_)};
 }
 
 void SceneObjects::build_clearance() {

@@ -20,6 +20,7 @@
 #include "houle/render/colour.hpp"
 #include "houle/runtime/expected.hpp"
 #include "houle/render/renderer.hpp"
+#include "water_floor.hpp"
 
 namespace houle::detail {
 
@@ -78,6 +79,12 @@ class SceneObjects {
   /// or when `memo` was kept, starts it afresh too.
   SurfaceHit intersect_primary(const SceneRay& ray, float t_max, double floor_z_lo, PrimaryMemo& memo, bool refill,
                                bool& reused) const noexcept;
+  /// The nearest box or sphere hit with t in [t_min, t_max) (the floor left out).
+  SurfaceHit intersect_objects(const SceneRay& ray, double t_min, double t_max) const noexcept {
+    return hit_objects(ray, t_min, t_max);
+  }
+  /// The floor as water_floor reads it; nx = 0 without a floor, or one too large for its 32-bit indices.
+  WaterFloorView water_floor() const noexcept;
   /// Whether anything lies on the ray with t in [t_min, t_max) (shadow rays); the floor only when
   /// `floor` is set (walked from its clearance, as intersect_secondary does).
   bool occluded(const SceneRay& ray, double t_min, double t_max, bool floor = true) const noexcept;
@@ -154,6 +161,7 @@ class SceneObjects {
   /// (t1: above it all along), from the clearance map in at most a few jumps of clear_cells cells.
   double clear_until(const SceneRay& ray, double t0, double t1) const noexcept;
   void build_clearance();
+  void build_water_floor();
   float sample(std::int64_t i, std::int64_t j) const noexcept;
   struct FloorQuery;
   bool walk_level(int level, FloorQuery& q, double ta, double tb, std::int64_t steps) const noexcept;
@@ -188,6 +196,8 @@ class SceneObjects {
   // in each axis (a dilated maximum), over which secondary rays jump instead of walking.
   static constexpr int clear_cells = 4;
   std::vector<float> clear_max_;
+  // water_floor's grids: the samples and level 0's cell maxima, with a border of the edges repeated.
+  std::vector<float> water_z_, water_cell_max_;
   double z_min_ = -std::numeric_limits<double>::infinity(), z_max_ = -std::numeric_limits<double>::infinity();
   LinearRgb sand_{};
 };

@@ -1,0 +1,139 @@
+// The floor hits of rays into the water (water_floor.hpp), written once for every width (included by
+// render_isa.cpp). The walk is SceneObjects::hit_cell's on level 0 of its maximum mipmap, in float:
+// an Amanatides-Woo step per cell for every lane together, a cell's highest corner to reject it, the
+// bilinear cell's quadratic to meet it. Only +, -, *, simd::div, simd::sqrt, comparisons, exact
+// conversions and gathers: every SIMD path gives the scalar path's bits (tests/kernel/test_water_floor.cpp).
+#pragma once
+#include <cstddef>
+#include <limits>
+
+#include "houle/simd/batch_loop.hpp"
+#include "houle/simd/gather.hpp"
+#include "houle/simd/simd.hpp"
+#include "lane_ops.hpp"
+#include "water_floor.hpp"
+
+namespace houle::detail {
+
+template <class A>
+struct WaterHit {
+  simd::vfloat<A> t, nx, ny, nz;
+  simd::vmask<A> left;
+};
+
+/// The floor hit of each lane's ray (water_floor.hpp); `valid` false lanes get none.
+template <class A>
+inline WaterHit<A> water_floor_hit(const WaterFloorView& f, simd::vmask<A> valid, simd::vfloat<A> ox, simd::vfloat<A> oy,
+                                   simd::vfloat<A> oz, simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz,
+                                   simd::vfloat<A> t_max) {
+  using V = simd::vfloat<A>;
+  using M = simd::vmask<A>;
+  using I = simd::vint<A>;
+  const V zero(0.0f), one(1.0f), inf(std::numeric_limits<float>::infinity());
+  WaterHit<A> h{inf, zero, zero, one, M(valid & !(dz < zero))};
+  if (f.nx == 0) {  // no floor: nothing to meet
+    h.left = M(false);
+    return h;
+  }
+  // Where the ray is inside the floor's height range: from z_hi down to z_lo, and before t_max.
+  const M down = valid & (dz < zero);
+  const V inv_dz = simd::div(one, simd::select(down, dz, V(-1.0f)));
+  const V t0 = max_as_std(zero, (V(f.z_hi) - oz) * inv_dz);
+  const V t1 = min_as_std(t_max, (V(f.z_lo) - oz) * inv_dz);
+  const V px = ox + t0 * dx - V(f.origin_x), py = oy + t0 * dy - V(f.origin_y);
+  const V cx = px * V(f.inv_cell), cy = py * V(f.inv_cell);
+  // floor_exact holds below 2^22 cells: a ray starting further out, or with a NaN, is left to SceneObjects.
+  constexpr float cell_limit = 4.0e6f;
+  const M near = (simd::abs(cx) < V(cell_limit)) & (simd::abs(cy) < V(cell_limit)) & (oz == oz);
+  h.left = h.left | (down & !near);
+  M walking = down & near & (t0 <= t1);
+  if (!simd::any(walking)) return h;
+
+  V fi = simd::floor_exact(simd::select(walking, cx, zero)), fj = simd::floor_exact(simd::select(walking, cy, zero));
+  const V si = simd::select(dx > zero, one, V(-1.0f)), sj = simd::select(dy > zero, one, V(-1.0f));
+  const V inv_dx = simd::div(one, simd::select(dx == zero, one, dx)), inv_dy = simd::div(one, simd::select(dy == zero, one, dy));
+  const V cell(f.cell);
+  const V step_x = simd::select(dx == zero, inf, cell * simd::abs(inv_dx));
+  const V step_y = simd::select(dy == zero, inf, cell * simd::abs(inv_dy));
+  V next_x = simd::select(dx > zero, t0 + ((fi + one) * cell - px) * inv_dx,
+                          simd::select(dx < zero, t0 + (fi * cell - px) * inv_dx, inf));
+  V next_y = simd::select(dy > zero, t0 + ((fj + one) * cell - py) * inv_dy,
+                          simd::select(dy < zero, t0 + (fj * cell - py) * inv_dy, inf));
+  V t = t0;
+  const V i_hi(float(f.nx - 1)), j_hi(float(f.ny - 1));
+  for (int step = 0; step < max_water_steps; ++step) {
+    const V t_exit = min_as_std(min_as_std(next_x, next_y), t1);
+    const V ta = t, tb = max_as_std(t_exit, t);
+    const V za = oz + ta * dz, zb = oz + tb * dz;
+    // Beyond the grid a cell has the heights of the border cell it clamps to (the view's border).
+    const I ci = simd::to_int_exact(clamp_as_std(fi, V(-1.0f), i_hi) + one);
+    const I cj = simd::to_int_exact(clamp_as_std(fj, V(-1.0f), j_hi) + one);
+    const V top = simd::gather(f.cell_max, cj * I(f.nx + 1) + ci);
+    const M candidate = walking & !(min_as_std(za, zb) > top);
+    if (simd::any(candidate)) {
+      const I k = cj * I(f.nx + 2) + ci;
+      const V h00 = simd::gather(f.z, k), h10 = simd::gather(f.z, k + I(1));
+      const V h01 = simd::gather(f.z, k + I(f.nx + 2)), h11 = simd::gather(f.z, k + I(f.nx + 3));
+      // Along the ray, s = t - ta: the bilinear h = h00 + e u + f v + g u v becomes a + b s + c s^2.
+      const V inv_cell(f.inv_cell);
+      const V u0 = (ox + ta * dx - (V(f.origin_x) + fi * cell)) * inv_cell;
+      const V v0 = (oy + ta * dy - (V(f.origin_y) + fj * cell)) * inv_cell;
+      const V du = dx * inv_cell, dv = dy * inv_cell;
+      const V e = h10 - h00, ef = h01 - h00, g = h00 - h10 - h01 + h11;
+      const V a = h00 + e * u0 + ef * v0 + g * u0 * v0;
+      const V b = e * du + ef * dv + g * (u0 * dv + v0 * du);
+      const V c = g * du * dv;
+      const V a0 = za - a;  // height above the ground on entering
+      const V s_end = tb - ta;
+      // c s^2 + qb s + qc = 0 with qb = b - dz, qc = -a0 (< 0 where it matters); the stable pair of roots.
+      const V qb = b - dz, qc = zero - a0;
+      const V disc = qb * qb - V(4.0f) * c * qc;
+      const V root = simd::sqrt(simd::select(disc >= zero, disc, zero));
+      const V qq = V(-0.5f) * (qb + simd::select(qb < zero, zero - root, root));
+      const V r1 = simd::select(qq != zero, simd::div(qc, simd::select(qq != zero, qq, one)), inf);
+      const V r2 = simd::select(c != zero, simd::div(qq, simd::select(c != zero, c, one)), inf);
+      V s = simd::select((disc >= zero) & (r1 >= zero) & (r1 <= s_end), r1, inf);
+      s = simd::select((disc >= zero) & (r2 >= zero) & (r2 <= s_end) & (r2 < s), r2, s);
+      s = simd::select(a0 <= zero, zero, s);  // at or under the ground on entering
+      const M hit = candidate & (s <= s_end) & (ta + s < t_max);
+      if (simd::any(hit)) {
+        const V u = clamp_as_std(u0 + du * s, zero, one), v = clamp_as_std(v0 + dv * s, zero, one);
+        const V gx = (e + g * v) * inv_cell, gy = (ef + g * u) * inv_cell;
+        const V inv = simd::div(one, simd::sqrt(gx * gx + gy * gy + one));
+        h.t = simd::select(hit, ta + s, h.t);
+        h.nx = simd::select(hit, zero - gx * inv, h.nx);
+        h.ny = simd::select(hit, zero - gy * inv, h.ny);
+        h.nz = simd::select(hit, inv, h.nz);
+        walking = walking & !hit;
+      }
+    }
+    walking = walking & !(t_exit >= t1);
+    if (!simd::any(walking)) return h;
+    const M along_x = next_x <= next_y;
+    fi = simd::select(along_x, fi + si, fi);
+    fj = simd::select(along_x, fj, fj + sj);
+    t = simd::select(along_x, next_x, next_y);
+    next_x = simd::select(along_x, next_x + step_x, next_x);
+    next_y = simd::select(along_x, next_y, next_y + step_y);
+  }
+  h.left = h.left | walking;  // not done within max_water_steps cells
+  return h;
+}
+
+/// water_floor_hit of n rays; a ray with t_max > 0 (not NaN) is valid.
+template <class A>
+void water_floor_batch(const WaterFloorView& f, const WaterRays& in, std::size_t n, WaterHits out) noexcept {
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    using V = simd::vfloat<A>;
+    const V t_max = b.load(in.t_max);
+    const WaterHit<A> h = water_floor_hit<A>(f, t_max > V(0.0f), b.load(in.ox), b.load(in.oy), b.load(in.oz), b.load(in.dx),
+                                             b.load(in.dy), b.load(in.dz, -1.0f), t_max);
+    b.store(out.t, h.t);
+    b.store(out.nx, h.nx);
+    b.store(out.ny, h.ny);
+    b.store(out.nz, h.nz);
+    b.store(out.left, simd::select(h.left, V(1.0f), V(0.0f)));
+  });
+}
+
+}  // namespace houle::detail
