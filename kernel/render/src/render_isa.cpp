@@ -7,7 +7,7 @@
 #include "render_table.hpp"
 #include "sand_impl.hpp"
 #include "sky_impl.hpp"
-#include "water_floor_impl.hpp"
+#include "floor_hits_impl.hpp"
 
 namespace houle::detail {
 namespace {
@@ -15,7 +15,7 @@ template <class A>
 constexpr RenderTable make_render_table() {
   return {&fresnel_batch<A>, &reflect_refract_batch<A>, &sea_normals_batch<A>, &air_directions_batch<A>,
           &sky_lookup_batch<A>, &foam_cover_batch<A>,
-          &water_mix_batch<A>, &sand_albedo_batch<A>, &water_floor_batch<A>};
+          &water_mix_batch<A>, &sand_albedo_batch<A>, &floor_hits_batch<A>};
 }
 }  // namespace
 }  // namespace houle::detail

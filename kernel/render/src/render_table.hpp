@@ -6,7 +6,7 @@
 #include "foam.hpp"
 #include "houle/render/optics.hpp"
 #include "sand.hpp"
-#include "water_floor.hpp"
+#include "floor_hits.hpp"
 
 namespace houle::detail {
 
@@ -20,7 +20,7 @@ struct RenderTable {
   void (*foam_cover_batch)(const SurfView&, const FoamInput&, std::size_t, float, float*) noexcept;
   void (*water_mix_batch)(const WaterTable&, const WaterMixInput&, std::size_t, WaterMixOutput) noexcept;
   void (*sand_albedo_batch)(const LinearRgb&, const SandInput&, std::size_t, SandOutput) noexcept;
-  void (*water_floor_batch)(const WaterFloorView&, const WaterRays&, std::size_t, WaterHits) noexcept;
+  void (*floor_hits_batch)(const FloorGridView&, const ObjectBounds&, const FloorRays&, std::size_t, FloorHits) noexcept;
 };
 
 }  // namespace houle::detail

@@ -18,7 +18,7 @@
 #include "sand_impl.hpp"
 #include "scene_objects.hpp"
 #include "shadow_mask.hpp"
-#include "water_floor.hpp"
+#include "floor_hits.hpp"
 
 namespace houle {
 namespace {
@@ -135,8 +135,8 @@ struct alignas(64) Scratch {
     dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, rough, side, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr,
     ax, ay, az, sky_r, sky_g, sky_b, foam, on_sand, qx, qy, qz, footprint, sand_r, sand_g, sand_b, lit,
     seen_r, seen_g, seen_b, seen_t, seen_path, seen_illumination, under_r, under_g, under_b,
-    // The rays into the water (find_water_hits), packed: ray k is pixel water_pixel[k]'s.
-    wox, woy, woz, wdx, wdy, wdz, wreach, wt, wnx, wny, wnz, wleft, count
+    // A row's secondary rays, packed (nearest_hits): ray k is pixel ray_pixel[k]'s.
+    ray_ox, ray_oy, ray_oz, ray_dx, ray_dy, ray_dz, ray_reach, hit_t, hit_nx, hit_ny, hit_nz, hit_left, hit_objects, count
   };
   std::vector<float> memory;
   float* a[count] = {};
@@ -144,7 +144,8 @@ struct alignas(64) Scratch {
   std::vector<MarchStatus> status;
   std::vector<SurfaceHit> object;
   std::vector<SurfaceHit> under;  // what the ray into the water from a sea hit meets (shade_sample)
-  std::vector<std::uint32_t> water_pixel;
+  std::vector<SurfaceHit> air;    // what the ray into the air from a sea hit meets (with reflect_objects)
+  std::vector<std::uint32_t> ray_pixel;
   std::int64_t march_ns = 0, intersect_ns = 0, shade_ns = 0;
   RenderCounters counters;
 
@@ -156,7 +157,8 @@ struct alignas(64) Scratch {
     status.assign(width, MarchStatus::miss);
     object.assign(width, SurfaceHit{});
     under.assign(width, SurfaceHit{});
-    water_pixel.assign(width, 0);
+    air.assign(width, SurfaceHit{});
+    ray_pixel.assign(width, 0);
   }
 };
 
@@ -233,11 +235,14 @@ struct Renderer::Impl {
   LinearRgb lit_in_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept;
   LinearRgb lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept;
   LinearRgb through_water(LinearRgb object, float distance, float light_path, float illumination) const noexcept;
-  LinearRgb trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d, float travelled,
-                      LinearRgb sky_along_d) const noexcept;
+  LinearRgb from_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled, LinearRgb sky_along_d) const noexcept;
   LinearRgb through_water_to(const SurfaceHit& h, LinearRgb albedo, const Vec3& p, const Vec3& d,
                              float illumination) const noexcept;
+  static void pack_ray(Scratch& s, std::size_t k, std::size_t i, const Vec3& p, const Vec3& offset_normal, float offset,
+                       const Vec3& d) noexcept;
+  void nearest_hits(Scratch& s, std::size_t rays, float reach, std::vector<SurfaceHit>& hits) const noexcept;
   void find_water_hits(Scratch& s) const noexcept;
+  void find_air_hits(Scratch& s) const noexcept;
   void light_under_water(Scratch& s) const noexcept;
   bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
   float sun_path_in_water(const Vec3& p) const noexcept {
@@ -306,18 +311,13 @@ LinearRgb Renderer::Impl::through_water(LinearRgb object, float distance, float 
           object.b * k[2] * ks[2] + sea.b * (1.0f - k[2])};
 }
 
-/// Radiance arriving at p from direction d through air: objects (if reflect_objects) or the sky
-/// (sky_along_d, looked up a row at a time).
-LinearRgb Renderer::Impl::trace_air(const Vec3& p, const Vec3& offset_normal, float offset, const Vec3& d,
-                                     float travelled, LinearRgb sky_along_d) const noexcept {
-  if (quality.reflect_objects) {
-    const SurfaceHit h = objects.intersect_secondary(make_ray(p, offset_normal, offset, d), 0.0, double(max_distance));
-    if (h.kind != HitKind::none) {
-      const Vec3 q = along(p, d, h.t);
-      return lit_in_air(h, q, d, albedo(h, q, travelled));
-    }
-  }
-  return sky_along_d;
+/// Radiance arriving at p from direction d through air, which meets h (find_air_hits): the object or
+/// floor lit, or the sky (sky_along_d, looked up a row at a time).
+LinearRgb Renderer::Impl::from_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled,
+                                   LinearRgb sky_along_d) const noexcept {
+  if (h.kind == HitKind::none) return sky_along_d;
+  const Vec3 q = along(p, d, h.t);
+  return lit_in_air(h, q, d, albedo(h, q, travelled));
 }
 
 /// Radiance arriving at p from direction d through water, which meets h (water_hit) of that albedo:
@@ -366,11 +366,10 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
   const float kr = s.a[Scratch::kr][i];
   // The ray that leaves into air, kept above the horizon (shade_sample).
   const Vec3 air{s.a[Scratch::ax][i], s.a[Scratch::ay][i], s.a[Scratch::az][i]};
-  const float offset = 1e-3f + 1e-4f * t;
   const SurfaceHit& under = s.under[i];
   if (status == MarchStatus::hit) {
     const bool lit = s.a[Scratch::lit][i] > 0.0f;
-    const LinearRgb reflected = trace_air(p, n, offset, air, t, sky_radiance(s, i));
+    const LinearRgb reflected = from_air(s.air[i], p, air, t, sky_radiance(s, i));
     const LinearRgb transmitted = kr < 1.0f ? LinearRgb{s.a[Scratch::under_r][i], s.a[Scratch::under_g][i], s.a[Scratch::under_b][i]}
                                             : LinearRgb{};
     // The sun's glint, widened by the slope variance of the octaves and trains the LOD left out at
@@ -404,58 +403,70 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
   // From below: the interface sent r back down into the sea and tr (outside Snell's window: none) up.
   const Vec3 r{s.a[Scratch::rx][i], s.a[Scratch::ry][i], s.a[Scratch::rz][i]};
   const LinearRgb reflected = through_water_to(under, albedo(s, i, under), p, r, sea_illumination);
-  const LinearRgb transmitted = kr < 1.0f ? trace_air(p, n, offset, air, t, sky_radiance(s, i)) : LinearRgb{};
+  const LinearRgb transmitted = kr < 1.0f ? from_air(s.air[i], p, air, t, sky_radiance(s, i)) : LinearRgb{};
   return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
+}
+
+/// Packs pixel i's ray from p, moved off the surface by `offset` along offset_normal, along d as the
+/// row's k-th secondary ray (nearest_hits).
+void Renderer::Impl::pack_ray(Scratch& s, std::size_t k, std::size_t i, const Vec3& p, const Vec3& offset_normal,
+                              float offset, const Vec3& d) noexcept {
+  const Vec3 o = along(p, offset_normal, offset);
+  float* const* a = s.a;
+  a[Scratch::ray_ox][k] = o[0], a[Scratch::ray_oy][k] = o[1], a[Scratch::ray_oz][k] = o[2];
+  a[Scratch::ray_dx][k] = d[0], a[Scratch::ray_dy][k] = d[1], a[Scratch::ray_dz][k] = d[2];
+  s.ray_pixel[k] = std::uint32_t(i);
+}
+
+/// The nearest hit of each of the row's `rays` packed rays within `reach`, into hits[pixel] (none for
+/// the other pixels): the floor a packet at a time (floor_hits, docs/rendering.md 1.5), then the boxes
+/// and spheres before it one by one where the packets say the ray may meet their bounds; the rays the
+/// packets leave go through SceneObjects' walk.
+void Renderer::Impl::nearest_hits(Scratch& s, std::size_t rays, float reach, std::vector<SurfaceHit>& hits) const noexcept {
+  float* const* a = s.a;
+  std::fill(a[Scratch::ray_reach], a[Scratch::ray_reach] + rays, reach);
+  detail::floor_hits(objects.floor_grid(), objects.object_bounds(),
+                     {a[Scratch::ray_ox], a[Scratch::ray_oy], a[Scratch::ray_oz], a[Scratch::ray_dx], a[Scratch::ray_dy],
+                      a[Scratch::ray_dz], a[Scratch::ray_reach]},
+                     rays,
+                     {a[Scratch::hit_t], a[Scratch::hit_nx], a[Scratch::hit_ny], a[Scratch::hit_nz], a[Scratch::hit_left],
+                      a[Scratch::hit_objects]});
+  std::fill(hits.begin(), hits.end(), SurfaceHit{});
+  for (std::size_t k = 0; k < rays; ++k) {
+    const SceneRay r{a[Scratch::ray_ox][k], a[Scratch::ray_oy][k], a[Scratch::ray_oz][k],
+                     a[Scratch::ray_dx][k], a[Scratch::ray_dy][k], a[Scratch::ray_dz][k]};
+    SurfaceHit& h = hits[s.ray_pixel[k]];
+    if (a[Scratch::hit_left][k] > 0.0f) {
+      h = objects.intersect_secondary(r, 0.0, double(reach));
+      continue;
+    }
+    const float t_floor = a[Scratch::hit_t][k];
+    if (a[Scratch::hit_objects][k] > 0.0f) h = objects.intersect_objects(r, 0.0, double(std::min(t_floor, reach)));
+    if (h.kind == HitKind::none && t_floor < reach) {
+      h = {t_floor, HitKind::floor, 0, {a[Scratch::hit_nx][k], a[Scratch::hit_ny][k], a[Scratch::hit_nz][k]}};
+    }
+  }
 }
 
 /// For each pixel of the row, what its ray into the water meets (a sea hit's refracted ray, or its
 /// reflected one from below) in s.under, and where a pixel's ray meets the floor (that one, or the
-/// primary ray's; the footprint there in m) for the sand. The rays into the water meet the floor a
-/// packet at a time (water_floor), then the boxes and spheres before it one by one; the few the packets
-/// leave go through SceneObjects' walk.
+/// primary ray's; the footprint there in m) for the sand.
 void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
   float* const* a = s.a;
-  const float reach = std::min(underwater_reach, max_distance);
-  // From above the refracted ray (none under total reflection), from below the reflected one.
   const auto hit_point = [&](std::size_t i) { return Vec3{a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]}; };
+  // From above the refracted ray (none under total reflection), from below the reflected one.
   const auto direction = [&](std::size_t i) {
     return a[Scratch::side][i] > 0.0f ? Vec3{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]}
                                       : Vec3{a[Scratch::rx][i], a[Scratch::ry][i], a[Scratch::rz][i]};
-  };
-  const auto ray_of = [&](std::size_t i) {
-    return make_ray(hit_point(i), {-a[Scratch::nx][i], -a[Scratch::ny][i], -a[Scratch::nz][i]},
-                    1e-3f + 1e-4f * a[Scratch::t][i], direction(i));
   };
   std::size_t rays = 0;
   for (std::size_t i = 0; i < width; ++i) {
     const float side = a[Scratch::side][i];
     if (side == 0.0f || (side > 0.0f && !(a[Scratch::kr][i] < 1.0f))) continue;
-    const SceneRay r = ray_of(i);
-    a[Scratch::wox][rays] = float(r.ox), a[Scratch::woy][rays] = float(r.oy), a[Scratch::woz][rays] = float(r.oz);
-    a[Scratch::wdx][rays] = float(r.dx), a[Scratch::wdy][rays] = float(r.dy), a[Scratch::wdz][rays] = float(r.dz);
-    a[Scratch::wreach][rays] = reach;
-    s.water_pixel[rays++] = std::uint32_t(i);
+    pack_ray(s, rays++, i, hit_point(i), {-a[Scratch::nx][i], -a[Scratch::ny][i], -a[Scratch::nz][i]},
+             1e-3f + 1e-4f * a[Scratch::t][i], direction(i));
   }
-  detail::water_floor(objects.water_floor(),
-                      {a[Scratch::wox], a[Scratch::woy], a[Scratch::woz], a[Scratch::wdx], a[Scratch::wdy], a[Scratch::wdz],
-                       a[Scratch::wreach]},
-                      rays, {a[Scratch::wt], a[Scratch::wnx], a[Scratch::wny], a[Scratch::wnz], a[Scratch::wleft]});
-  for (std::size_t i = 0; i < width; ++i) s.under[i] = SurfaceHit{};
-  for (std::size_t k = 0; k < rays; ++k) {
-    const std::size_t i = s.water_pixel[k];
-    const SceneRay r = ray_of(i);
-    if (a[Scratch::wleft][k] > 0.0f) {
-      s.under[i] = objects.intersect_secondary(r, 0.0, double(reach));
-      continue;
-    }
-    const float t_floor = a[Scratch::wt][k];
-    const SurfaceHit h = objects.intersect_objects(r, 0.0, double(std::min(t_floor, reach)));
-    if (h.kind != HitKind::none) {
-      s.under[i] = h;
-    } else if (t_floor < reach) {
-      s.under[i] = {t_floor, HitKind::floor, 0, {a[Scratch::wnx][k], a[Scratch::wny][k], a[Scratch::wnz][k]}};
-    }
-  }
+  nearest_hits(s, rays, std::min(underwater_reach, max_distance), s.under);
   for (std::size_t i = 0; i < width; ++i) {
     const float side = a[Scratch::side][i];
     const SurfaceHit* h = side != 0.0f ? &s.under[i] : &s.object[i];
@@ -470,6 +481,22 @@ void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
     a[Scratch::qz][i] = q[2];
     a[Scratch::footprint][i] = (travelled + h->t) * camera.pixel_angle;
   }
+}
+
+/// For each sea hit, what its ray into the air meets (from above the reflected ray, from below the
+/// refracted one, both kept above the horizon), in s.air: objects and the floor with reflect_objects,
+/// nothing (the sky) without.
+void Renderer::Impl::find_air_hits(Scratch& s) const noexcept {
+  float* const* a = s.a;
+  std::size_t rays = 0;
+  for (std::size_t i = 0; quality.reflect_objects && i < width; ++i) {
+    const float side = a[Scratch::side][i];
+    if (side == 0.0f || (side < 0.0f && !(a[Scratch::kr][i] < 1.0f))) continue;
+    pack_ray(s, rays++, i, {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]},
+             {a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]}, 1e-3f + 1e-4f * a[Scratch::t][i],
+             {a[Scratch::ax][i], a[Scratch::ay][i], a[Scratch::az][i]});
+  }
+  nearest_hits(s, rays, max_distance, s.air);
 }
 
 /// For each sea hit seen from above, whether the sun reaches it (s.lit) and the light its refracted ray
@@ -552,9 +579,10 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
                           a[Scratch::t]},
                          w, camera.pixel_angle, a[Scratch::foam]);
     }
-    // The rays into the water walk the floor one by one; the sand where they (or primary rays) meet it
-    // is coloured a packet at a time.
+    // The sand where the rays into the water (or primary rays) meet the floor is coloured a packet at a
+    // time.
     find_water_hits(s);
+    find_air_hits(s);
     detail::sand_albedo(sand, {a[Scratch::on_sand], a[Scratch::qx], a[Scratch::qy], a[Scratch::qz], a[Scratch::footprint]},
                         w, {a[Scratch::sand_r], a[Scratch::sand_g], a[Scratch::sand_b]});
     light_under_water(s);

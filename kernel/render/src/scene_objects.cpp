@@ -158,30 +158,36 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
     }
   }
   s.build_clearance();
-  s.build_water_floor();
+  s.build_floor_grid();
   return s;
 }
 
-void SceneObjects::build_water_floor() {
+void SceneObjects::build_floor_grid() {
   const std::int64_t wx = nx_ + 2, wy = ny_ + 2;  // samples -1 .. n
-  if (wx * wy > std::numeric_limits<std::int32_t>::max()) return;  // water_floor() then says no floor
-  water_z_.resize(std::size_t(wx * wy));
+  if (wx * wy > std::numeric_limits<std::int32_t>::max()) return;  // floor_grid() then says no floor
+  grid_z_.resize(std::size_t(wx * wy));
   for (std::int64_t j = 0; j < wy; ++j) {
-    for (std::int64_t i = 0; i < wx; ++i) water_z_[std::size_t(j * wx + i)] = sample(i - 1, j - 1);
+    for (std::int64_t i = 0; i < wx; ++i) grid_z_[std::size_t(j * wx + i)] = sample(i - 1, j - 1);
   }
-  water_cell_max_.resize(std::size_t((wx - 1) * (wy - 1)));  // cells -1 .. n - 1
+  grid_cell_max_.resize(std::size_t((wx - 1) * (wy - 1)));  // cells -1 .. n - 1
   for (std::int64_t j = 0; j + 1 < wy; ++j) {
     for (std::int64_t i = 0; i + 1 < wx; ++i) {
-      const float* p = &water_z_[std::size_t(j * wx + i)];
-      water_cell_max_[std::size_t(j * (wx - 1) + i)] = std::max(std::max(p[0], p[1]), std::max(p[wx], p[wx + 1]));
+      const float* p = &grid_z_[std::size_t(j * wx + i)];
+      grid_cell_max_[std::size_t(j * (wx - 1) + i)] = std::max(std::max(p[0], p[1]), std::max(p[wx], p[wx + 1]));
     }
   }
 }
 
-WaterFloorView SceneObjects::water_floor() const noexcept {
-  if (water_z_.empty()) return {};
+ObjectBounds SceneObjects::object_bounds() const noexcept {
+  if (nodes_.empty()) return {};
+  const Node& root = nodes_[0];
+  return {{root.lo[0], root.lo[1], root.lo[2]}, {root.hi[0], root.hi[1], root.hi[2]}};
+}
+
+FloorGridView SceneObjects::floor_grid() const noexcept {
+  if (grid_z_.empty()) return {};
   constexpr float below = 1e-3f;  // as floor_span's range
-  return {water_z_.data(), water_cell_max_.data(), float(origin_x_), float(origin_y_), float(cell_), float(1.0 / cell_),
+  return {grid_z_.data(), grid_cell_max_.data(), float(origin_x_), float(origin_y_), float(cell_), float(1.0 / cell_),
           std::int32_t(nx_), std::int32_t(ny_), float(z_min_) - below, float(z_max_)};
 }
 

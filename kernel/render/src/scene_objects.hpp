@@ -20,7 +20,7 @@
 #include "houle/render/colour.hpp"
 #include "houle/runtime/expected.hpp"
 #include "houle/render/renderer.hpp"
-#include "water_floor.hpp"
+#include "floor_hits.hpp"
 
 namespace houle::detail {
 
@@ -83,8 +83,10 @@ class SceneObjects {
   SurfaceHit intersect_objects(const SceneRay& ray, double t_min, double t_max) const noexcept {
     return hit_objects(ray, t_min, t_max);
   }
-  /// The floor as water_floor reads it; nx = 0 without a floor, or one too large for its 32-bit indices.
-  WaterFloorView water_floor() const noexcept;
+  /// A box holding every box and sphere, wherever the moving ones may go (the hierarchy's root).
+  ObjectBounds object_bounds() const noexcept;
+  /// The floor as floor_hits reads it; nx = 0 without a floor, or one too large for its 32-bit indices.
+  FloorGridView floor_grid() const noexcept;
   /// Whether anything lies on the ray with t in [t_min, t_max) (shadow rays); the floor only when
   /// `floor` is set (walked from its clearance, as intersect_secondary does).
   bool occluded(const SceneRay& ray, double t_min, double t_max, bool floor = true) const noexcept;
@@ -161,7 +163,7 @@ class SceneObjects {
   /// (t1: above it all along), from the clearance map in at most a few jumps of clear_cells cells.
   double clear_until(const SceneRay& ray, double t0, double t1) const noexcept;
   void build_clearance();
-  void build_water_floor();
+  void build_floor_grid();
   float sample(std::int64_t i, std::int64_t j) const noexcept;
   struct FloorQuery;
   bool walk_level(int level, FloorQuery& q, double ta, double tb, std::int64_t steps) const noexcept;
@@ -196,8 +198,8 @@ class SceneObjects {
   // in each axis (a dilated maximum), over which secondary rays jump instead of walking.
   static constexpr int clear_cells = 4;
   std::vector<float> clear_max_;
-  // water_floor's grids: the samples and level 0's cell maxima, with a border of the edges repeated.
-  std::vector<float> water_z_, water_cell_max_;
+  // floor_hits's grids: the samples and level 0's cell maxima, with a border of the edges repeated.
+  std::vector<float> grid_z_, grid_cell_max_;
   double z_min_ = -std::numeric_limits<double>::infinity(), z_max_ = -std::numeric_limits<double>::infinity();
   LinearRgb sand_{};
 };

@@ -1,8 +1,8 @@
-// The floor hits of rays into the water (water_floor.hpp), written once for every width (included by
+// The floor hits of secondary rays (floor_hits.hpp), written once for every width (included by
 // render_isa.cpp). The walk is SceneObjects::hit_cell's on level 0 of its maximum mipmap, in float:
 // an Amanatides-Woo step per cell for every lane together, a cell's highest corner to reject it, the
 // bilinear cell's quadratic to meet it. Only +, -, *, simd::div, simd::sqrt, comparisons, exact
-// conversions and gathers: every SIMD path gives the scalar path's bits (tests/kernel/test_water_floor.cpp).
+// conversions and gathers: every SIMD path gives the scalar path's bits (tests/kernel/test_floor_hits.cpp).
 #pragma once
 #include <cstddef>
 #include <limits>
@@ -11,42 +11,43 @@
 #include "houle/simd/gather.hpp"
 #include "houle/simd/simd.hpp"
 #include "lane_ops.hpp"
-#include "water_floor.hpp"
+#include "floor_hits.hpp"
 
 namespace houle::detail {
 
 template <class A>
-struct WaterHit {
+struct FloorHit {
   simd::vfloat<A> t, nx, ny, nz;
   simd::vmask<A> left;
 };
 
-/// The floor hit of each lane's ray (water_floor.hpp); `valid` false lanes get none.
+/// The floor hit of each lane's ray (floor_hits.hpp); `valid` false lanes get none.
 template <class A>
-inline WaterHit<A> water_floor_hit(const WaterFloorView& f, simd::vmask<A> valid, simd::vfloat<A> ox, simd::vfloat<A> oy,
+inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid, simd::vfloat<A> ox, simd::vfloat<A> oy,
                                    simd::vfloat<A> oz, simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz,
                                    simd::vfloat<A> t_max) {
   using V = simd::vfloat<A>;
   using M = simd::vmask<A>;
   using I = simd::vint<A>;
   const V zero(0.0f), one(1.0f), inf(std::numeric_limits<float>::infinity());
-  WaterHit<A> h{inf, zero, zero, one, M(valid & !(dz < zero))};
+  FloorHit<A> h{inf, zero, zero, one, M(valid & !(dz != zero))};
   if (f.nx == 0) {  // no floor: nothing to meet
     h.left = M(false);
     return h;
   }
-  // Where the ray is inside the floor's height range: from z_hi down to z_lo, and before t_max.
-  const M down = valid & (dz < zero);
-  const V inv_dz = simd::div(one, simd::select(down, dz, V(-1.0f)));
-  const V t0 = max_as_std(zero, (V(f.z_hi) - oz) * inv_dz);
-  const V t1 = min_as_std(t_max, (V(f.z_lo) - oz) * inv_dz);
+  // Where the ray is inside the floor's height range, before t_max.
+  const M moving = valid & (dz != zero);
+  const V inv_dz = simd::div(one, simd::select(moving, dz, one));
+  const V t_lo = (V(f.z_lo) - oz) * inv_dz, t_hi = (V(f.z_hi) - oz) * inv_dz;
+  const V t0 = max_as_std(zero, simd::select(dz < zero, t_hi, t_lo));
+  const V t1 = min_as_std(t_max, simd::select(dz < zero, t_lo, t_hi));
   const V px = ox + t0 * dx - V(f.origin_x), py = oy + t0 * dy - V(f.origin_y);
   const V cx = px * V(f.inv_cell), cy = py * V(f.inv_cell);
   // floor_exact holds below 2^22 cells: a ray starting further out, or with a NaN, is left to SceneObjects.
   constexpr float cell_limit = 4.0e6f;
-  const M near = (simd::abs(cx) < V(cell_limit)) & (simd::abs(cy) < V(cell_limit)) & (oz == oz);
-  h.left = h.left | (down & !near);
-  M walking = down & near & (t0 <= t1);
+  const M near = (simd::abs(cx) < V(cell_limit)) & (simd::abs(cy) < V(cell_limit)) & (oz == oz) & (dz == dz);
+  h.left = h.left | (moving & !near);
+  M walking = moving & near & (t0 <= t1);
   if (!simd::any(walking)) return h;
 
   V fi = simd::floor_exact(simd::select(walking, cx, zero)), fj = simd::floor_exact(simd::select(walking, cy, zero));
@@ -61,7 +62,7 @@ inline WaterHit<A> water_floor_hit(const WaterFloorView& f, simd::vmask<A> valid
                           simd::select(dy < zero, t0 + (fj * cell - py) * inv_dy, inf));
   V t = t0;
   const V i_hi(float(f.nx - 1)), j_hi(float(f.ny - 1));
-  for (int step = 0; step < max_water_steps; ++step) {
+  for (int step = 0; step < max_floor_steps; ++step) {
     const V t_exit = min_as_std(min_as_std(next_x, next_y), t1);
     const V ta = t, tb = max_as_std(t_exit, t);
     const V za = oz + ta * dz, zb = oz + tb * dz;
@@ -116,18 +117,46 @@ inline WaterHit<A> water_floor_hit(const WaterFloorView& f, simd::vmask<A> valid
     next_x = simd::select(along_x, next_x + step_x, next_x);
     next_y = simd::select(along_x, next_y, next_y + step_y);
   }
-  h.left = h.left | walking;  // not done within max_water_steps cells
+  h.left = h.left | walking;  // not done within max_floor_steps cells
   return h;
 }
 
-/// water_floor_hit of n rays; a ray with t_max > 0 (not NaN) is valid.
+/// Whether each lane's ray may meet the box b with t in [0, t_end]: a slab test against b grown by
+/// more than the test's float rounding along such a ray (1e-5 of its coordinates' and length's
+/// magnitude), so that it says no only where the exact test would. Where a ray lies in a slab's plane
+/// the NaN leaves that slab out: conservative too.
 template <class A>
-void water_floor_batch(const WaterFloorView& f, const WaterRays& in, std::size_t n, WaterHits out) noexcept {
+inline simd::vmask<A> may_meet(const ObjectBounds& b, simd::vfloat<A> ox, simd::vfloat<A> oy, simd::vfloat<A> oz,
+                               simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz, simd::vfloat<A> t_end) {
+  using V = simd::vfloat<A>;
+  const V margin = V(1e-3f) + V(1e-5f) * (simd::abs(ox) + simd::abs(oy) + simd::abs(oz) + t_end);
+  V t0(0.0f), t1 = t_end;
+  const V o[3] = {ox, oy, oz}, d[3] = {dx, dy, dz};
+  for (int k = 0; k < 3; ++k) {
+    const V inv = simd::div(V(1.0f), d[k]);
+    const V ta = (V(b.lo[k]) - margin - o[k]) * inv, tb = (V(b.hi[k]) + margin - o[k]) * inv;
+    t0 = max_as_std(t0, min_as_std(ta, tb));
+    t1 = min_as_std(t1, max_as_std(ta, tb));
+  }
+  return t0 <= t1;
+}
+
+/// floor_hit_lanes of n rays (a ray with t_max > 0, not NaN, is valid), and may_meet of the object
+/// bounds up to the floor's hit.
+template <class A>
+void floor_hits_batch(const FloorGridView& f, const ObjectBounds& bounds, const FloorRays& in, std::size_t n,
+                      FloorHits out) noexcept {
   simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
     using V = simd::vfloat<A>;
-    const V t_max = b.load(in.t_max);
-    const WaterHit<A> h = water_floor_hit<A>(f, t_max > V(0.0f), b.load(in.ox), b.load(in.oy), b.load(in.oz), b.load(in.dx),
-                                             b.load(in.dy), b.load(in.dz, -1.0f), t_max);
+    const V t_max = b.load(in.t_max), ox = b.load(in.ox), oy = b.load(in.oy), oz = b.load(in.oz);
+    const V dx = b.load(in.dx), dy = b.load(in.dy), dz = b.load(in.dz, -1.0f);
+    const auto valid = t_max > V(0.0f);
+    const FloorHit<A> h = floor_hit_lanes<A>(f, valid, ox, oy, oz, dx, dy, dz, t_max);
+    const bool objects = bounds.lo[0] <= bounds.hi[0];
+    const auto meet = objects && simd::any(valid)
+                          ? valid & may_meet<A>(bounds, ox, oy, oz, dx, dy, dz, min_as_std(h.t, t_max))
+                          : simd::vmask<A>(false);
+    b.store(out.objects, simd::select(meet, V(1.0f), V(0.0f)));
     b.store(out.t, h.t);
     b.store(out.nx, h.nx);
     b.store(out.ny, h.ny);

@@ -1,0 +1,52 @@
+// Where a sea pixel's secondary rays meet the floor, a packet at a time (templates in
+// floor_hits_impl.hpp; docs/rendering.md 1.5). A sea hit's ray into the water (refracted, or from
+// below reflected) meets the floor within a few cells, and its ray into the air (reflected, or from
+// below refracted) leaves the floor's height range within a few: per ray, SceneObjects' hierarchical
+// walk spends more on setting up than on walking, and every sea pixel sends both. Here the rays of a
+// row walk the floor's cells together in float lanes; a level ray, or one that walks further than the
+// kernel's steps, is left to SceneObjects' walk.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+#include "houle/runtime/isa.hpp"
+
+namespace houle::detail {
+
+/// The floor's height grid as the kernel reads it (SceneObjects::floor_grid), with a border: the
+/// floor beyond the grid repeats its edge samples, so every cell beyond it has the heights of the
+/// border cell it is clamped to, and no lane needs more than a clamp of its cell index.
+struct FloorGridView {
+  const float* z = nullptr;         ///< (nx + 2) (ny + 2) samples: sample (i, j), i in [-1, nx], at (j + 1) (nx + 2) + i + 1
+  const float* cell_max = nullptr;  ///< (nx + 1) (ny + 1) cells: cell (i, j), i in [-1, nx - 1], at (j + 1) (nx + 1) + i + 1
+  float origin_x = 0.0f, origin_y = 0.0f, cell = 1.0f, inv_cell = 1.0f;  ///< m, 1/m
+  std::int32_t nx = 0, ny = 0;      ///< samples per side; 0: no floor
+  float z_lo = 0.0f, z_hi = 0.0f;   ///< m: a little below the lowest sample, the highest sample
+};
+
+/// A box holding every box and sphere of the scene, wherever the moving ones may go
+/// (SceneObjects::object_bounds); lo > hi for none.
+struct ObjectBounds {
+  float lo[3] = {1.0f, 1.0f, 1.0f}, hi[3] = {0.0f, 0.0f, 0.0f};  ///< m
+};
+
+/// Rays from (ox, oy, oz) along the unit (dx, dy, dz), each met up to t_max (m).
+struct FloorRays {
+  const float *ox, *oy, *oz, *dx, *dy, *dz, *t_max;
+};
+/// t: the nearest floor hit in [0, t_max), +inf for none; (nx, ny, nz) its normal (up); left: 1 for a
+/// ray the kernel leaves to SceneObjects (a level one, one with a NaN, or one not done within
+/// max_floor_steps cells), whose t and normal are then meaningless; 0 otherwise. objects: 1 where the
+/// ray may meet the object bounds before min(t, t_max) (a conservative test: 0 only where it cannot).
+struct FloorHits {
+  float *t, *nx, *ny, *nz, *left, *objects;
+};
+inline constexpr int max_floor_steps = 64;
+
+/// The floor hits of n rays, and whether they may meet the objects before.
+void floor_hits(const FloorGridView& f, const ObjectBounds& b, const FloorRays& in, std::size_t n, FloorHits out) noexcept;
+/// The same on a given ISA (it must be supported): for tests and benchmarks.
+void floor_hits(Isa isa, const FloorGridView& f, const ObjectBounds& b, const FloorRays& in, std::size_t n,
+                FloorHits out) noexcept;
+
+}  // namespace houle::detail
