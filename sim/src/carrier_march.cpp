@@ -1,9 +1,9 @@
 #include "carrier_march.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <queue>
 #include <utility>
 
 namespace houle::detail {
@@ -11,23 +11,33 @@ namespace houle::detail {
 void march_carrier(std::size_t nx, std::size_t ny, double cell, const std::vector<float>& k,
                    const std::vector<std::uint8_t>& near_wall,
                    const std::function<bool(std::size_t, std::size_t)>& crosses_wall, std::vector<double>& phase,
-                   std::vector<double>& kx, std::vector<double>& ky) {
+                   std::vector<double>& kx, std::vector<double>& ky, CarrierMarchScratch& scratch) {
   const std::size_t nodes = nx * ny;
-  std::vector<std::uint8_t> seeded(nodes, 0);
-  using Entry = std::pair<double, std::size_t>;  // (phase, node): the least phase first, then the lower node
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> front;
+  std::vector<std::uint8_t>& seeded = scratch.seeded;
+  seeded.assign(nodes, 0);
+  // A min-heap on the scratch's storage (what std::priority_queue with std::greater does, without
+  // owning it): the least phase first, then the lower node.
+  using Entry = std::pair<double, std::size_t>;
+  std::vector<Entry>& front = scratch.front;
+  front.clear();
+  const auto push = [&](double p, std::size_t n) {
+    front.emplace_back(p, n);
+    std::push_heap(front.begin(), front.end(), std::greater<Entry>{});
+  };
   for (std::size_t n = 0; n < nodes; ++n) {
     if (std::isfinite(phase[n])) {
       seeded[n] = 1;
-      front.push({phase[n], n});
+      push(phase[n], n);
     }
   }
   static constexpr int moves[16][2] = {{1, 0},  {-1, 0}, {0, 1},  {0, -1}, {1, 1},  {1, -1}, {-1, 1}, {-1, -1},
                                        {2, 1},  {2, -1}, {-2, 1}, {-2, -1}, {1, 2}, {1, -2}, {-1, 2}, {-1, -2}};
-  std::vector<std::uint8_t> done(nodes, 0);
+  std::vector<std::uint8_t>& done = scratch.done;
+  done.assign(nodes, 0);
   while (!front.empty()) {
-    const auto [p, n] = front.top();
-    front.pop();
+    std::pop_heap(front.begin(), front.end(), std::greater<Entry>{});
+    const auto [p, n] = front.back();
+    front.pop_back();
     if (done[n] || p > phase[n]) continue;
     done[n] = 1;
     const long i = long(n % nx), j = long(n / nx);
@@ -40,7 +50,7 @@ void march_carrier(std::size_t nx, std::size_t ny, double cell, const std::vecto
       if (std::isfinite(phase[q]) && phase[q] <= p + step) continue;
       if ((near_wall[n] || near_wall[q]) && crosses_wall(n, q)) continue;
       phase[q] = p + step;
-      front.push({phase[q], q});
+      push(phase[q], q);
     }
   }
   // Wave vectors of the marched nodes from their neighbours' phases.
