@@ -4,7 +4,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
-#include <utility>
 #include <vector>
 
 namespace houle::detail {
@@ -12,8 +11,13 @@ namespace houle::detail {
 /// What march_carrier works in, kept by its caller: a scene's build marches every train, and fresh
 /// arrays per train cost page faults and zeroing (SeaSurface::ResampleScratch says why it matters).
 struct CarrierMarchScratch {
+  /// A node on the march's front at a phase.
+  struct Entry {
+    std::uint64_t key;  ///< the phase's bits as an unsigned integer that orders as the phases do
+    std::size_t node;
+  };
   std::vector<std::uint8_t> seeded, done;
-  std::vector<std::pair<double, std::size_t>> front;  ///< the march's min-heap of (phase, node)
+  std::vector<Entry> front;  ///< the march's min-heap
 };
 
 /// Extends `phase` (rad per node, NaN where unset) from the nodes that have one to every node with
