@@ -98,6 +98,10 @@ struct FamilyField {
     double wall_radius = 0.0;
     for (const detail::Capsule& c : walls) wall_radius = std::max(wall_radius, c.radius);
     const double near_wall = radius + g.cell + wall_radius;
+    // Per column of a sample's footprint, its tent weight and the phase the sample's wave gains from
+    // the footprint's first column: the same in every row, so worked out once per sample (the splat
+    // is most of a train's resampling after the carrier's march).
+    std::vector<double> tent_x(std::size_t(2 * reach)), advance_x(std::size_t(2 * reach));
     for (std::size_t r = 0; r < rays.ray_count(); ++r) {
       if (!keep(r)) continue;
       for (std::size_t s = rays.sample_begin[r]; s < rays.sample_begin[r + 1]; ++s) {
@@ -118,13 +122,18 @@ struct FamilyField {
         const double rel0 = phi0 - (fkx * nx0 + fky * ny0 - far.far_offset);
         const cplx z0 = std::polar(a, rel0), step_x = std::polar(1.0, (ksx - fkx) * g.cell),
                    step_y = std::polar(1.0, (ksy - fky) * g.cell);
+        for (int i = i0; i <= i1; ++i) {
+          tent_x[std::size_t(i - i0)] = 1.0 - std::fabs(i - gx) * g.cell / radius;
+          advance_x[std::size_t(i - i0)] = ksx * (i - i0) * g.cell;
+        }
         cplx row = z0;
         for (int j = j0; j <= j1; ++j, row *= step_y) {
           const double wy = 1.0 - std::fabs(j - gy) * g.cell / radius;
           if (wy <= 0.0) continue;
+          const double advance_y = ksy * (j - j0) * g.cell;
           cplx z = row;
           for (int i = i0; i <= i1; ++i, z *= step_x) {
-            const double wx = 1.0 - std::fabs(i - gx) * g.cell / radius;
+            const double wx = tent_x[std::size_t(i - i0)];
             if (wx <= 0.0) continue;
             const std::size_t n = std::size_t(j) * g.nx + std::size_t(i);
             if (check_walls && detail::wall_blocks(walls, sx, sy, g.x(n), g.y(n))) continue;
@@ -132,7 +141,7 @@ struct FamilyField {
             weight[n] += w;
             re[n] += w * z.real();
             im[n] += w * z.imag();
-            const double at_node = phi0 + ksx * (i - i0) * g.cell + ksy * (j - j0) * g.cell;
+            const double at_node = phi0 + advance_x[std::size_t(i - i0)] + advance_y;
             if (at_node < phase[n]) {
               phase[n] = at_node;
               kx[n] = ksx;
