@@ -6,6 +6,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "houle/runtime/assert.hpp"
@@ -97,6 +98,10 @@ struct FamilyField {
     double wall_radius = 0.0;
     for (const detail::Capsule& c : walls) wall_radius = std::max(wall_radius, c.radius);
     const double near_wall = radius + g.cell + wall_radius;
+    // Per column of a sample's footprint, its tent weight and the phase the sample's wave gains from
+    // the footprint's first column: the same in every row, so worked out once per sample (the splat
+    // is most of a train's resampling after the carrier's march).
+    std::vector<double> tent_x(std::size_t(2 * reach)), advance_x(std::size_t(2 * reach));
     for (std::size_t r = 0; r < rays.ray_count(); ++r) {
       if (!keep(r)) continue;
       for (std::size_t s = rays.sample_begin[r]; s < rays.sample_begin[r + 1]; ++s) {
@@ -117,13 +122,18 @@ struct FamilyField {
         const double rel0 = phi0 - (fkx * nx0 + fky * ny0 - far.far_offset);
         const cplx z0 = std::polar(a, rel0), step_x = std::polar(1.0, (ksx - fkx) * g.cell),
                    step_y = std::polar(1.0, (ksy - fky) * g.cell);
+        for (int i = i0; i <= i1; ++i) {
+          tent_x[std::size_t(i - i0)] = 1.0 - std::fabs(i - gx) * g.cell / radius;
+          advance_x[std::size_t(i - i0)] = ksx * (i - i0) * g.cell;
+        }
         cplx row = z0;
         for (int j = j0; j <= j1; ++j, row *= step_y) {
           const double wy = 1.0 - std::fabs(j - gy) * g.cell / radius;
           if (wy <= 0.0) continue;
+          const double advance_y = ksy * (j - j0) * g.cell;
           cplx z = row;
           for (int i = i0; i <= i1; ++i, z *= step_x) {
-            const double wx = 1.0 - std::fabs(i - gx) * g.cell / radius;
+            const double wx = tent_x[std::size_t(i - i0)];
             if (wx <= 0.0) continue;
             const std::size_t n = std::size_t(j) * g.nx + std::size_t(i);
             if (check_walls && detail::wall_blocks(walls, sx, sy, g.x(n), g.y(n))) continue;
@@ -131,7 +141,7 @@ struct FamilyField {
             weight[n] += w;
             re[n] += w * z.real();
             im[n] += w * z.imag();
-            const double at_node = phi0 + ksx * (i - i0) * g.cell + ksy * (j - j0) * g.cell;
+            const double at_node = phi0 + advance_x[std::size_t(i - i0)] + advance_y;
             if (at_node < phase[n]) {
               phase[n] = at_node;
               kx[n] = ksx;
@@ -287,6 +297,22 @@ double from_half_line(double px, double py, double mx, double my, double dx, dou
 
 }  // namespace
 
+/// The per-node arrays one train's resampling works in, one set per thread of the build, sized by
+/// the first train it resamples and refilled, not reallocated, for the next: fresh arrays per train
+/// cost the buoy scene's 32 trains a third of the build in page faults and zeroing. resample()
+/// refills each before it reads it, so a train's grid does not depend on the trains the thread did
+/// before (nor on which thread took it).
+struct SeaSurface::ResampleScratch {
+  FamilyField incident;
+  std::vector<FamilyField> reflections;  ///< as many as the most reflected waves of a train so far
+  std::vector<float> wavenumber, kh_at;
+  std::vector<cplx> sums;
+  std::vector<std::uint8_t> has_wave, near_wall;
+  std::vector<double> carrier, carrier_kx, carrier_ky, reference, magnitude;
+  std::vector<std::uint32_t> queue;
+  detail::CarrierMarchScratch march;
+};
+
 Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& field, float cell, SeaParts parts,
                                        unsigned threads) {
   if (!(cell > 0.0f)) return Error{"cell", "a resampling cell > 0 m"};
@@ -336,22 +362,23 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
     }
   }
   std::vector<DiffractionWork> work(count);
-  const auto resample_trains = [&](std::size_t begin, std::size_t end, unsigned) noexcept {
-    for (std::size_t i = begin; i < end; ++i) {
-      const std::size_t t = traced[i];
-      std::vector<const WaveRays*> reflected;
-      for (const ReflectedWave& r : field.reflections) {
-        if (r.train == t) reflected.push_back(&r.rays);
-      }
-      b_max[t] = s.resample(t, scene, floor, depths, field.trains[t], reflected, parts, work[t]);
-    }
-  };
   std::unique_ptr<detail::ThreadPool> pool;
   if (threads > 1 && traced.size() > 1) {
     Expected<std::unique_ptr<detail::ThreadPool>> made = detail::ThreadPool::create(std::min(threads, unsigned(traced.size())));
     if (!made) return made.error();
     pool = std::move(made).value();
   }
+  std::vector<ResampleScratch> scratch(pool ? pool->size() : 1);
+  const auto resample_trains = [&](std::size_t begin, std::size_t end, unsigned lane) noexcept {
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::size_t t = traced[i];
+      std::vector<const WaveRays*> reflected;
+      for (const ReflectedWave& r : field.reflections) {
+        if (r.train == t) reflected.push_back(&r.rays);
+      }
+      b_max[t] = s.resample(t, scene, floor, depths, field.trains[t], reflected, parts, work[t], scratch[lane]);
+    }
+  };
   if (pool) {
     pool->for_ranges(traced.size(), 1, resample_trains);
   } else {
@@ -370,7 +397,7 @@ Expected<SeaSurface> SeaSurface::build(const Scene& scene, const WaveField& fiel
 
 float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const std::vector<float>& depths,
                            const WaveRays& rays, const std::vector<const WaveRays*>& reflected, SeaParts parts,
-                           DiffractionWork& work) {
+                           DiffractionWork& work, ResampleScratch& scratch) {
   TrainField& f = trains_[t];
   TrainGrid& g = grids_[t];
   const GridGeometry geo{g.origin_x, g.origin_y, g.cell, g.nx, g.ny};
@@ -385,7 +412,7 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
   const std::vector<detail::Capsule> walls = detail::wall_capsules(scene.walls);
   const std::vector<detail::PierheadSite> sites =
       scene.dwt.diffraction ? detail::pierhead_sites(scene, floor, rays.min_depth) : std::vector<detail::PierheadSite>{};
-  FamilyField incident;
+  FamilyField& incident = scratch.incident;
   incident.splat(geo, g, rays, [](std::size_t) { return true; }, radius, walls);
   // The parabolic model's field replaces the incident rays and the pierheads' diffraction of the
   // incident wave (it diffracts by itself); the rays still seed the carrier, give the reflected waves
@@ -434,7 +461,8 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
   for (std::vector<float>* v : {&f.phi, &f.b_re, &f.b_im, &f.kx, &f.ky, &f.fold, &f.lean, &f.breaking}) v->assign(nodes, 0.0f);
   f.diffraction.assign(pierheads.empty() ? 0 : nodes, 0.0f);
   for (std::vector<float>* v : {&f.incident, &f.diffracted, &f.reflected}) v->assign(parts == SeaParts::keep ? nodes : 0, 0.0f);
-  std::vector<FamilyField> reflections(reflected.size());
+  if (scratch.reflections.size() < reflected.size()) scratch.reflections.resize(reflected.size());
+  const std::span<FamilyField> reflections(scratch.reflections.data(), reflected.size());
   for (std::size_t r = 0; r < reflected.size(); ++r) {
     // Rays reflected off a pierhead's rounded end would spray its reflection round the tip: the
     // diffracted wave is what goes there.
@@ -453,7 +481,10 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
   // under water takes min_depth, as the breaking cap does: k ~ sqrt(k0 / h) would otherwise grow
   // without bound at the waterline (1e7 rad/m at h = 1e-16 m), and the carrier's phase with it.
   const double k0 = deep_water_wavenumber(rays.omega);
-  std::vector<float> wavenumber(nodes, 0.0f), kh_at(nodes, 0.0f);
+  std::vector<float>& wavenumber = scratch.wavenumber;
+  std::vector<float>& kh_at = scratch.kh_at;
+  wavenumber.assign(nodes, 0.0f);
+  kh_at.assign(nodes, 0.0f);
   for (std::size_t n = 0; n < nodes; ++n) {
     if (!(depths[n] > 0.0f)) continue;
     const double h = std::max(double(depths[n]), min_depth), kh = detail::kh_from_table(k0 * h);
@@ -472,9 +503,16 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
 
   // Pass 1, per node: everything of the train's frequency that arrives, summed relative to the far
   // field's phase psi; the incident rays' phase seeds the carrier where they are lit.
-  std::vector<cplx> sums(nodes, 0.0);
-  std::vector<std::uint8_t> has_wave(nodes, 0);
-  std::vector<double> carrier(nodes, NAN), carrier_kx(nodes, 0.0), carrier_ky(nodes, 0.0), reference(nodes, 0.0);
+  std::vector<cplx>& sums = scratch.sums;
+  sums.assign(nodes, 0.0);
+  std::vector<std::uint8_t>& has_wave = scratch.has_wave;
+  has_wave.assign(nodes, 0);
+  std::vector<double>& carrier = scratch.carrier;
+  std::vector<double>& carrier_kx = scratch.carrier_kx;
+  std::vector<double>& carrier_ky = scratch.carrier_ky;
+  std::vector<double>& reference = scratch.reference;
+  carrier.assign(nodes, NAN);
+  for (std::vector<double>* v : {&carrier_kx, &carrier_ky, &reference}) v->assign(nodes, 0.0);
   std::vector<PierheadView> views(pierheads.size());
   for (std::size_t n = 0; n < nodes; ++n) {
     const double x = geo.x(n), y = geo.y(n);
@@ -615,7 +653,8 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
   // follow where they do not cross, and continuous where they cross, end or are cut at a shadow
   // line), marched from where its rays enter the domain, round land and walls (no move of the
   // stencil crosses a wall).
-  std::vector<std::uint8_t> near_wall(nodes, 0);
+  std::vector<std::uint8_t>& near_wall = scratch.near_wall;
+  near_wall.assign(nodes, 0);
   for (const detail::Capsule& c : walls) {
     const double reach = c.radius + 2.5 * geo.cell;  // the stencil's longest move, and some
     const long i0 = std::max(0L, long(std::floor((std::min(c.ax, c.bx) - reach - geo.x0) / geo.cell)));
@@ -642,12 +681,14 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
     carrier_kx[n] = g.far_kx;
     carrier_ky[n] = g.far_ky;
   }
-  detail::march_carrier(geo.nx, geo.ny, geo.cell, wavenumber, near_wall, crosses_wall, carrier, carrier_kx, carrier_ky);
+  detail::march_carrier(geo.nx, geo.ny, geo.cell, wavenumber, near_wall, crosses_wall, carrier, carrier_kx, carrier_ky,
+                        scratch.march);
 
   // Pass 2: the sum relative to the carrier, capped by breaking (the waves that meet at a node
   // break as one: each ray is capped so, their sum and a diffracted wave shoaled into shallow water
   // need it too), and the shape.
-  std::vector<double> magnitude(nodes, 0.0);
+  std::vector<double>& magnitude = scratch.magnitude;
+  magnitude.assign(nodes, 0.0);
   // The probe's parts at node `to`: those at `from` times `scale` (breaking caps them with their sum).
   const auto scale_parts = [&](std::size_t from, std::size_t to, double scale) {
     if (parts != SeaParts::keep) return;
@@ -689,7 +730,8 @@ float SeaSurface::resample(std::size_t t, const Scene& scene, const Bathymetry& 
   // Between the depth where the rays stop (h_min) and the waterline nothing was traced: the nearest
   // wave goes on there along its wave vector, its height capped by breaking, so it dies out at the
   // waterline instead of ending in a step (breadth first from the nodes with a wave: deterministic).
-  std::vector<std::uint32_t> queue;
+  std::vector<std::uint32_t>& queue = scratch.queue;
+  queue.clear();
   for (std::size_t n = 0; n < nodes; ++n) {
     if (has_wave[n]) queue.push_back(std::uint32_t(n));
   }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -302,6 +303,39 @@ TEST(SeaSurface, TheSameOnOneOrTwoThreads) {
   EXPECT_EQ(one.height_bound(), two.height_bound());
   EXPECT_EQ(one.diffraction_work().evaluations, two.diffraction_work().evaluations);
   EXPECT_GT(one.diffraction_work().evaluations, 0u);
+}
+
+// Each thread of the build reuses its working arrays from train to train: a train's grid must be
+// the same bits whichever trains the thread resampled before it. The built-in coast's trains in
+// reverse order on one thread (each then follows other trains, or none), with each wave model.
+TEST(SeaSurface, ATrainsGridDoesNotDependOnTheTrainsResampledBeforeIt) {
+  for (const houle::WaveModelKind kind : {houle::WaveModelKind::rays, houle::WaveModelKind::parabolic}) {
+    houle::Scene scene = houle::builtin_coast();
+    scene.wave_model.kind = kind;
+    const houle::WaveField field = houle::trace_wave_field(scene, 2).value();
+    const std::size_t count = scene.trains.size();
+    houle::Scene reversed = scene;
+    std::reverse(reversed.trains.begin(), reversed.trains.end());
+    houle::WaveField reversed_field = field;
+    std::reverse(reversed_field.trains.begin(), reversed_field.trains.end());
+    for (houle::ReflectedWave& r : reversed_field.reflections) r.train = count - 1 - r.train;
+    ASSERT_FALSE(field.reflections.empty());
+    const houle::SeaSurface a = houle::SeaSurface::build(scene, field, 1.0f, houle::SeaParts::keep, 1).value();
+    const houle::SeaSurface b = houle::SeaSurface::build(reversed, reversed_field, 1.0f, houle::SeaParts::keep, 1).value();
+    ASSERT_EQ(a.trains().size(), count);
+    ASSERT_EQ(b.trains().size(), count);
+    for (std::size_t t = 0; t < count; ++t) {
+      const houle::TrainField &x = a.trains()[t], &y = b.trains()[count - 1 - t];
+      ASSERT_FALSE(x.phi.empty());
+      EXPECT_EQ(x.model, kind);
+      for (const auto field_of : {&houle::TrainField::phi, &houle::TrainField::b_re, &houle::TrainField::b_im,
+                                  &houle::TrainField::kx, &houle::TrainField::ky, &houle::TrainField::fold,
+                                  &houle::TrainField::lean, &houle::TrainField::breaking, &houle::TrainField::diffraction,
+                                  &houle::TrainField::incident, &houle::TrainField::diffracted, &houle::TrainField::reflected}) {
+        EXPECT_EQ(x.*field_of, y.*field_of) << t;
+      }
+    }
+  }
 }
 
 TEST(SeaSurface, BreakingMarksTheSurfZoneAndTheSurfMapFollows) {

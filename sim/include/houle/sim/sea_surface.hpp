@@ -125,11 +125,14 @@ class SeaSurface {
   // The grids point into trains_' arrays and frame_ into grids_: moving keeps both (vectors move
   // their buffers), copying would not.
   SeaSurface(const SeaSurface&) = delete;
+  /// A resampling's per-node working arrays (sea_surface.cpp), one per thread of the build.
+  struct ResampleScratch;
   /// Fills train t's grid (its geometry set) from its rays and reflected waves, over the floor's
-  /// depths at its nodes, adding its diffraction to `work`; returns max |B|. Touches train t only.
+  /// depths at its nodes, adding its diffraction to `work`; returns max |B|. Touches train t and
+  /// `scratch` only, and reads nothing `scratch` held before.
   float resample(std::size_t t, const Scene& scene, const Bathymetry& floor, const std::vector<float>& depths,
                  const WaveRays& rays, const std::vector<const WaveRays*>& reflected, SeaParts parts,
-                 DiffractionWork& work);
+                 DiffractionWork& work, ResampleScratch& scratch);
 
   std::vector<TrainField> trains_;
   std::vector<TrainGrid> grids_;  ///< per train, pointing into trains_' arrays
