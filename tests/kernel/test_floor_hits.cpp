@@ -140,13 +140,17 @@ TEST(FloorHits, LeavesWhatItCannotWalkToSceneObjects) {
   for (std::size_t k = 0; k < r.size(); ++k) EXPECT_EQ(h.left[k], left[k]) << k;
   EXPECT_EQ(h.t[3], no_hit);
   EXPECT_EQ(h.t[4], no_hit);
-  // Without a floor nothing is met, and nothing is left.
-  WaterOut none(r.size());
+  // Without a floor nothing is met, and nothing is left; a floor too large for the kernel's indices
+  // leaves every ray.
+  WaterOut none(r.size()), large(r.size());
   houle::detail::floor_hits(houle::Isa::scalar, FloorGridView{}, ObjectBounds{}, r.input(), r.size(), none.output());
+  houle::detail::floor_hits(houle::Isa::scalar, FloorGridView{.too_large = true}, ObjectBounds{}, r.input(), r.size(),
+                            large.output());
   for (std::size_t k = 0; k < r.size(); ++k) {
     EXPECT_EQ(none.t[k], no_hit) << k;
     EXPECT_EQ(none.left[k], 0.0f) << k;
     EXPECT_EQ(none.objects[k], 0.0f) << k;
+    EXPECT_EQ(large.left[k], k == 3 ? 0.0f : 1.0f) << k;  // all but the ray without a reach
   }
 }
 

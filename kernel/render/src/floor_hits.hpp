@@ -20,8 +20,9 @@ struct FloorGridView {
   const float* z = nullptr;         ///< (nx + 2) (ny + 2) samples: sample (i, j), i in [-1, nx], at (j + 1) (nx + 2) + i + 1
   const float* cell_max = nullptr;  ///< (nx + 1) (ny + 1) cells: cell (i, j), i in [-1, nx - 1], at (j + 1) (nx + 1) + i + 1
   float origin_x = 0.0f, origin_y = 0.0f, cell = 1.0f, inv_cell = 1.0f;  ///< m, 1/m
-  std::int32_t nx = 0, ny = 0;      ///< samples per side; 0: no floor
+  std::int32_t nx = 0, ny = 0;      ///< samples per side; 0: no grid (no floor, or too_large)
   float z_lo = 0.0f, z_hi = 0.0f;   ///< m: a little below the lowest sample, the highest sample
+  bool too_large = false;           ///< a floor beyond the kernel's 32-bit indices: every ray is left
 };
 
 /// A box holding every box and sphere of the scene, wherever the moving ones may go

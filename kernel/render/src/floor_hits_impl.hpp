@@ -7,11 +7,11 @@
 #include <cstddef>
 #include <limits>
 
+#include "floor_hits.hpp"
 #include "houle/simd/batch_loop.hpp"
 #include "houle/simd/gather.hpp"
 #include "houle/simd/simd.hpp"
 #include "lane_ops.hpp"
-#include "floor_hits.hpp"
 
 namespace houle::detail {
 
@@ -31,8 +31,8 @@ inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid,
   using I = simd::vint<A>;
   const V zero(0.0f), one(1.0f), inf(std::numeric_limits<float>::infinity());
   FloorHit<A> h{inf, zero, zero, one, M(valid & !(dz != zero))};
-  if (f.nx == 0) {  // no floor: nothing to meet
-    h.left = M(false);
+  if (f.nx == 0) {  // no floor, nothing to meet; or one too large for the kernel, left whole
+    h.left = f.too_large ? valid : M(false);
     return h;
   }
   // Where the ray is inside the floor's height range, before t_max.

@@ -13,12 +13,12 @@
 #include "houle/render/sky.hpp"
 #include "houle/runtime/assert.hpp"
 #include "houle/runtime/thread_pool.hpp"
+#include "floor_hits.hpp"
 #include "foam.hpp"
 #include "sand.hpp"
 #include "sand_impl.hpp"
 #include "scene_objects.hpp"
 #include "shadow_mask.hpp"
-#include "floor_hits.hpp"
 
 namespace houle {
 namespace {
@@ -320,7 +320,7 @@ LinearRgb Renderer::Impl::from_air(const SurfaceHit& h, const Vec3& p, const Vec
   return lit_in_air(h, q, d, albedo(h, q, travelled));
 }
 
-/// Radiance arriving at p from direction d through water, which meets h (water_hit) of that albedo:
+/// Radiance arriving at p from direction d through water, which meets h (find_water_hits) of that albedo:
 /// eq. 12 on the floor or an object within reach, I_sea otherwise.
 LinearRgb Renderer::Impl::through_water_to(const SurfaceHit& h, LinearRgb albedo, const Vec3& p, const Vec3& d,
                                            float illumination) const noexcept {
@@ -489,12 +489,14 @@ void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
 void Renderer::Impl::find_air_hits(Scratch& s) const noexcept {
   float* const* a = s.a;
   std::size_t rays = 0;
-  for (std::size_t i = 0; quality.reflect_objects && i < width; ++i) {
-    const float side = a[Scratch::side][i];
-    if (side == 0.0f || (side < 0.0f && !(a[Scratch::kr][i] < 1.0f))) continue;
-    pack_ray(s, rays++, i, {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]},
-             {a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]}, 1e-3f + 1e-4f * a[Scratch::t][i],
-             {a[Scratch::ax][i], a[Scratch::ay][i], a[Scratch::az][i]});
+  if (quality.reflect_objects) {
+    for (std::size_t i = 0; i < width; ++i) {
+      const float side = a[Scratch::side][i];
+      if (side == 0.0f || (side < 0.0f && !(a[Scratch::kr][i] < 1.0f))) continue;
+      pack_ray(s, rays++, i, {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]},
+               {a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]}, 1e-3f + 1e-4f * a[Scratch::t][i],
+               {a[Scratch::ax][i], a[Scratch::ay][i], a[Scratch::az][i]});
+    }
   }
   nearest_hits(s, rays, max_distance, s.air);
 }

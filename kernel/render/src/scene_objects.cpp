@@ -164,7 +164,7 @@ Expected<SceneObjects> SceneObjects::build(const RenderScene& scene) {
 
 void SceneObjects::build_floor_grid() {
   const std::int64_t wx = nx_ + 2, wy = ny_ + 2;  // samples -1 .. n
-  if (wx * wy > std::numeric_limits<std::int32_t>::max()) return;  // floor_grid() then says no floor
+  if (wx * wy > std::numeric_limits<std::int32_t>::max()) return;  // floor_grid() then says too_large
   grid_z_.resize(std::size_t(wx * wy));
   for (std::int64_t j = 0; j < wy; ++j) {
     for (std::int64_t i = 0; i < wx; ++i) grid_z_[std::size_t(j * wx + i)] = sample(i - 1, j - 1);
@@ -185,7 +185,7 @@ ObjectBounds SceneObjects::object_bounds() const noexcept {
 }
 
 FloorGridView SceneObjects::floor_grid() const noexcept {
-  if (grid_z_.empty()) return {};
+  if (grid_z_.empty()) return {.too_large = nx_ > 0};
   constexpr float below = 1e-3f;  // as floor_span's range
   return {grid_z_.data(), grid_cell_max_.data(), float(origin_x_), float(origin_y_), float(cell_), float(1.0 / cell_),
           std::int32_t(nx_), std::int32_t(ny_), float(z_min_) - below, float(z_max_)};

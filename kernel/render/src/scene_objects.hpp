@@ -85,7 +85,8 @@ class SceneObjects {
   }
   /// A box holding every box and sphere, wherever the moving ones may go (the hierarchy's root).
   ObjectBounds object_bounds() const noexcept;
-  /// The floor as floor_hits reads it; nx = 0 without a floor, or one too large for its 32-bit indices.
+  /// The floor as floor_hits reads it (nx = 0 without a floor, and too_large for one beyond its
+  /// 32-bit indices).
   FloorGridView floor_grid() const noexcept;
   /// Whether anything lies on the ray with t in [t_min, t_max) (shadow rays); the floor only when
   /// `floor` is set (walked from its clearance, as intersect_secondary does).
