@@ -45,7 +45,8 @@ inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid,
   const V cx = px * V(f.inv_cell), cy = py * V(f.inv_cell);
   // floor_exact holds below 2^22 cells: a ray starting further out, or with a NaN, is left to SceneObjects.
   constexpr float cell_limit = 4.0e6f;
-  const M near = (simd::abs(cx) < V(cell_limit)) & (simd::abs(cy) < V(cell_limit)) & (oz == oz) & (dz == dz);
+  const V acx = simd::abs(cx), acy = simd::abs(cy);
+  const M near = (acx < V(cell_limit)) & (acy < V(cell_limit)) & (oz == oz) & (dz == dz);
   h.left = h.left | (moving & !near);
   M walking = moving & near & (t0 <= t1);
   if (!simd::any(walking)) return h;
@@ -153,9 +154,11 @@ void floor_hits_batch(const FloorGridView& f, const ObjectBounds& bounds, const 
     const auto valid = t_max > V(0.0f);
     const FloorHit<A> h = floor_hit_lanes<A>(f, valid, ox, oy, oz, dx, dy, dz, t_max);
     const bool objects = bounds.lo[0] <= bounds.hi[0];
-    const auto meet = objects && simd::any(valid)
-                          ? valid & may_meet<A>(bounds, ox, oy, oz, dx, dy, dz, min_as_std(h.t, t_max))
-                          : simd::vmask<A>(false);
+    simd::vmask<A> meet(false);
+    if (objects && simd::any(valid)) {
+      const simd::vmask<A> may = may_meet<A>(bounds, ox, oy, oz, dx, dy, dz, min_as_std(h.t, t_max));
+      meet = valid & may;
+    }
     b.store(out.objects, simd::select(meet, V(1.0f), V(0.0f)));
     b.store(out.t, h.t);
     b.store(out.nx, h.nx);
