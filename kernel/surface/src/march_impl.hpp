@@ -323,117 +323,155 @@ struct MarchResult {
   V t, x, y, z, grad_x, grad_y, level, status, evaluations, slope_variance;
 };
 
+/// One packet's march in progress: its rays, where they are, and the bracket [a, b] of the crossing
+/// each found. A packet is stepped by march_step until none of its lanes is active, then refined.
 template <class A>
-inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, simd::vfloat<A> oy, simd::vfloat<A> oz,
-                                   simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz, simd::vfloat<A> t_max) {
+struct MarchState {
+  using V = simd::vfloat<A>;
+  using M = simd::vmask<A>;
+  MarchRay<A> r;
+  V t_end, t_out, t, sigma, t_prev, g_prev, a, ga, b, gb, evaluations, side;
+  M active, crossed;
+  TileCache<A> tiles;
+};
+
+template <class A>
+HOULE_MARCH_INLINE MarchState<A> march_start(const MarchContext& c, simd::vfloat<A> ox, simd::vfloat<A> oy,
+                                             simd::vfloat<A> oz, simd::vfloat<A> dx, simd::vfloat<A> dy,
+                                             simd::vfloat<A> dz, simd::vfloat<A> t_max) {
   using V = simd::vfloat<A>;
   using M = simd::vmask<A>;
   const V zero(0.0f), one(1.0f), big(1e30f);
-  const bool noise = c.noise != nullptr;
-
+  MarchState<A> m;
   M finite(false);
-  const MarchRay<A> r = make_march_ray<A>(c, ox, oy, oz, dx, dy, dz, finite);
+  m.r = make_march_ray<A>(c, ox, oy, oz, dx, dy, dz, finite);
+  const MarchRay<A>& r = m.r;
   const V inv_dz = simd::div(one, simd::select(r.dz == zero, one, r.dz));
 
   // The ray's end and its interval in the slab.
-  V t_end = simd::select(t_max < c.max_distance, t_max, V(c.max_distance));  // NaN: max_distance
-  t_end = simd::select(t_end > zero, t_end, zero);
+  m.t_end = simd::select(t_max < c.max_distance, t_max, V(c.max_distance));  // NaN: max_distance
+  m.t_end = simd::select(m.t_end > zero, m.t_end, zero);
   const V t_top = (c.z_hi - r.oz) * inv_dz, t_bottom = (c.z_lo - r.oz) * inv_dz;
   const M inside = (r.oz >= c.z_lo) & (r.oz <= c.z_hi);
   const V t_enter = simd::select(r.dz > zero, t_bottom, simd::select(r.dz < zero, t_top, simd::select(inside, zero, big)));
   const V t_exit = simd::select(r.dz > zero, t_top, simd::select(r.dz < zero, t_bottom, simd::select(inside, big, zero)));
-  const V t_in = vmax<A>(t_enter, zero), t_out = vmin<A>(t_exit, t_end);
-  M active = finite & (t_in < t_out);
+  const V t_in = vmax<A>(t_enter, zero);
+  m.t_out = vmin<A>(t_exit, m.t_end);
+  m.active = finite & (t_in < m.t_out);
+  m.t = simd::select(m.active, t_in, zero);
+  m.sigma = one;
+  m.t_prev = m.t;
+  m.g_prev = m.a = m.ga = m.b = m.gb = m.evaluations = m.side = zero;
+  m.crossed = M(false);
+  return m;
+}
 
-  V t = simd::select(active, t_in, zero);
-  V sigma = one, t_prev = t, g_prev = zero, a = zero, ga = zero, b = zero, gb = zero, evaluations = zero;
-  M crossed(false);
-  TileCache<A> tiles;
-  for (std::int32_t it = 0; it < c.max_steps && simd::any(active); ++it) {
-    const V px = r.ox + t * r.dx, py = r.oy + t * r.dy, pz = r.oz + t * r.dz;
-    const Located<A> s = locate<A>(c, px, py);
-    const V f_grid = pz - grid_height<A>(c, s);
-    const V cone = c.cone_width + t * c.pixel_angle;
-    // g: sigma f when it is known; outside the noise envelope a bound with the right sign.
-    V g, g_env, noise_h = zero, noise_s = zero, level_term = zero;
-    M near(true);
-    if (noise) {
-      noise_bounds<A>(c, cone * r.inv_sin, noise_h, noise_s);
-      near = simd::abs(f_grid) <= noise_h;
-      V f = f_grid;
-      if (simd::any(active & near)) {
-        // Inside the envelope: the noise itself, at the sample's level.
-        const V level = noise_level<A>(c, r.level_offset, cone);
-        f = simd::select(near, f_grid - noise_height<A>(*c.noise, px, py, level), f_grid);
-        // The level falls along the ray; its change moves the noise by at most this much per m.
-        level_term = simd::div(V(c.level_rate * c.pixel_angle), vmax<A>(cone, V(1e-20f)));
-      }
-      if (it == 0) sigma = simd::select(f >= zero, one, V(-1.0f));
-      g_env = sigma * f_grid - noise_h;
-      g = simd::select(near, sigma * f, g_env);
-    } else {
-      if (it == 0) sigma = simd::select(f_grid >= zero, one, V(-1.0f));
-      g = sigma * f_grid;
-      g_env = g;
+/// Step `it` (0 for the first) of a packet with active lanes: a sample, the crossing test, the step.
+template <class A>
+HOULE_MARCH_INLINE void march_step(const MarchContext& c, MarchState<A>& m, std::int32_t it) {
+  using V = simd::vfloat<A>;
+  using M = simd::vmask<A>;
+  const V zero(0.0f), one(1.0f), big(1e30f);
+  const bool noise = c.noise != nullptr;
+  const MarchRay<A>& r = m.r;
+  const V t = m.t;
+  const V px = r.ox + t * r.dx, py = r.oy + t * r.dy, pz = r.oz + t * r.dz;
+  const Located<A> s = locate<A>(c, px, py);
+  const V f_grid = pz - grid_height<A>(c, s);
+  const V cone = c.cone_width + t * c.pixel_angle;
+  // g: sigma f when it is known; outside the noise envelope a bound with the right sign.
+  V g, g_env, noise_h = zero, noise_s = zero, level_term = zero;
+  M near(true);
+  if (noise) {
+    noise_bounds<A>(c, cone * r.inv_sin, noise_h, noise_s);
+    near = simd::abs(f_grid) <= noise_h;
+    V f = f_grid;
+    if (simd::any(m.active & near)) {
+      // Inside the envelope: the noise itself, at the sample's level.
+      const V level = noise_level<A>(c, r.level_offset, cone);
+      f = simd::select(near, f_grid - noise_height<A>(*c.noise, px, py, level), f_grid);
+      // The level falls along the ray; its change moves the noise by at most this much per m.
+      level_term = simd::div(V(c.level_rate * c.pixel_angle), vmax<A>(cone, V(1e-20f)));
     }
-    evaluations = evaluations + simd::select(active, one, zero);
-
-    const M cross_now = active & (g <= zero);
-    a = simd::select(cross_now, t_prev, a);
-    ga = simd::select(cross_now, g_prev, ga);
-    b = simd::select(cross_now, t, b);
-    gb = simd::select(cross_now, g, gb);
-    crossed = crossed | cross_now;
-    active = active & !cross_now;
-    active = active & (t < t_out);  // the sample at t_out was the last
-    if (!simd::any(active)) break;
-
-    // The step: the largest distance that provably holds no crossing, within the bounds' box, but at
-    // least delta.
-    const StepBounds<A> bd = step_bounds<A>(c, s, px, py, r.dx, r.dy, r.inv_dx, r.inv_dy, active, tiles);
-    const V lip = vmax<A>(r.adz + bd.slope_x * r.adx + bd.slope_y * r.ady, V(1e-30f));
-    V safe = simd::select(g_env > zero, simd::div(g_env, lip), zero);
-    if (noise) {
-      const V lip_full = lip + noise_s * (r.adx + r.ady) + level_term;
-      safe = vmax<A>(safe, simd::select(near & (g > zero), simd::div(g, lip_full), zero));
-    }
-    const V top = simd::select(sigma > zero, bd.h_max + noise_h, bd.h_min - noise_h);
-    const V gap = sigma * (pz - top), rate = zero - sigma * r.dz;
-    safe = vmax<A>(safe, simd::select(gap > zero, simd::select(rate > zero, simd::div(gap, rate), big), zero));
-    const V delta = vmax<A>(c.step_fraction * cone, V(c.min_step));
-    const V step = vmax<A>(vmin<A>(safe, bd.s_box + 0.125f * delta), delta);
-    t_prev = simd::select(active, t, t_prev);
-    g_prev = simd::select(active, g, g_prev);
-    t = simd::select(active, vmin<A>(t + step, t_out), t);
+    if (it == 0) m.sigma = simd::select(f >= zero, one, V(-1.0f));
+    g_env = m.sigma * f_grid - noise_h;
+    g = simd::select(near, m.sigma * f, g_env);
+  } else {
+    if (it == 0) m.sigma = simd::select(f_grid >= zero, one, V(-1.0f));
+    g = m.sigma * f_grid;
+    g_env = g;
   }
-  const M exhausted = active;
+  m.evaluations = m.evaluations + simd::select(m.active, one, zero);
 
-  // Illinois on [a, b]: g(a) > 0 >= g(b) (a == b when the ray starts on the surface).
-  V t_hit = b;
+  const M cross_now = m.active & (g <= zero);
+  m.a = simd::select(cross_now, m.t_prev, m.a);
+  m.ga = simd::select(cross_now, m.g_prev, m.ga);
+  m.b = simd::select(cross_now, t, m.b);
+  m.gb = simd::select(cross_now, g, m.gb);
+  m.crossed = m.crossed | cross_now;
+  m.active = m.active & !cross_now;
+  m.active = m.active & (t < m.t_out);  // the sample at t_out was the last
+  if (!simd::any(m.active)) return;
+
+  // The step: the largest distance that provably holds no crossing, within the bounds' box, but at
+  // least delta.
+  const StepBounds<A> bd = step_bounds<A>(c, s, px, py, r.dx, r.dy, r.inv_dx, r.inv_dy, m.active, m.tiles);
+  const V lip = vmax<A>(r.adz + bd.slope_x * r.adx + bd.slope_y * r.ady, V(1e-30f));
+  V safe = simd::select(g_env > zero, simd::div(g_env, lip), zero);
+  if (noise) {
+    const V lip_full = lip + noise_s * (r.adx + r.ady) + level_term;
+    safe = vmax<A>(safe, simd::select(near & (g > zero), simd::div(g, lip_full), zero));
+  }
+  const V top = simd::select(m.sigma > zero, bd.h_max + noise_h, bd.h_min - noise_h);
+  const V gap = m.sigma * (pz - top), rate = zero - m.sigma * r.dz;
+  safe = vmax<A>(safe, simd::select(gap > zero, simd::select(rate > zero, simd::div(gap, rate), big), zero));
+  const V delta = vmax<A>(c.step_fraction * cone, V(c.min_step));
+  const V step = vmax<A>(vmin<A>(safe, bd.s_box + 0.125f * delta), delta);
+  m.t_prev = simd::select(m.active, t, m.t_prev);
+  m.g_prev = simd::select(m.active, g, m.g_prev);
+  m.t = simd::select(m.active, vmin<A>(t + step, m.t_out), t);
+}
+
+/// One Illinois iteration on [a, b] of a packet with crossed lanes: g(a) > 0 >= g(b) (a == b when the
+/// ray starts on the surface).
+template <class A>
+HOULE_MARCH_INLINE void refine_step(const MarchContext& c, MarchState<A>& m) {
+  using V = simd::vfloat<A>;
+  using M = simd::vmask<A>;
+  const V zero(0.0f), one(1.0f);
+  const V den = m.ga - m.gb;
+  V x = simd::select(den > zero, m.a + (m.b - m.a) * simd::div(m.ga, simd::select(den > zero, den, one)), m.a);
+  x = vmax<A>(vmin<A>(x, m.b), m.a);
+  const V gx = full_g<A>(c, m.r, x, m.sigma);
+  const M rb = m.crossed & (gx <= zero), ra = m.crossed & !(gx <= zero);
+  m.ga = simd::select(rb & (m.side > zero), m.ga * 0.5f, m.ga);  // b kept twice: halve the stale end's value
+  m.gb = simd::select(ra & (m.side < zero), m.gb * 0.5f, m.gb);
+  m.b = simd::select(rb, x, m.b);
+  m.gb = simd::select(rb, gx, m.gb);
+  m.a = simd::select(ra, x, m.a);
+  m.ga = simd::select(ra, gx, m.ga);
+  m.side = simd::select(rb, one, simd::select(ra, V(-1.0f), m.side));  // +1: b was replaced last, -1: a was
+  m.evaluations = m.evaluations + simd::select(m.crossed, one, zero);
+}
+
+/// The hit of a packet whose march and refinement are done (lanes still active ran out of steps).
+template <class A>
+HOULE_MARCH_INLINE MarchResult<A> march_result(const MarchContext& c, MarchState<A>& m) {
+  using V = simd::vfloat<A>;
+  using M = simd::vmask<A>;
+  const V zero(0.0f), one(1.0f);
+  const bool noise = c.noise != nullptr;
+  const MarchRay<A>& r = m.r;
+  const M crossed = m.crossed, exhausted = m.active;
+  V t_hit = m.b;
   if (simd::any(crossed)) {
-    V side = zero;  // +1: b was replaced last, -1: a was
-    for (std::int32_t k = 0; k < c.refine_iterations; ++k) {
-      const V den = ga - gb;
-      V m = simd::select(den > zero, a + (b - a) * simd::div(ga, simd::select(den > zero, den, one)), a);
-      m = vmax<A>(vmin<A>(m, b), a);
-      const V gm = full_g<A>(c, r, m, sigma);
-      const M rb = crossed & (gm <= zero), ra = crossed & !(gm <= zero);
-      ga = simd::select(rb & (side > zero), ga * 0.5f, ga);  // b kept twice: halve the stale end's value
-      gb = simd::select(ra & (side < zero), gb * 0.5f, gb);
-      b = simd::select(rb, m, b);
-      gb = simd::select(rb, gm, gb);
-      a = simd::select(ra, m, a);
-      ga = simd::select(ra, gm, ga);
-      side = simd::select(rb, one, simd::select(ra, V(-1.0f), side));
-      evaluations = evaluations + simd::select(crossed, one, zero);
-    }
-    const V den = ga - gb;
-    t_hit = simd::select(den > zero, a + (b - a) * simd::div(ga, simd::select(den > zero, den, one)), a);
-    t_hit = vmax<A>(vmin<A>(t_hit, b), a);
+    const V den = m.ga - m.gb;
+    t_hit = simd::select(den > zero, m.a + (m.b - m.a) * simd::div(m.ga, simd::select(den > zero, den, one)), m.a);
+    t_hit = vmax<A>(vmin<A>(t_hit, m.b), m.a);
   }
 
   MarchResult<A> out;
-  out.t = simd::select(crossed, t_hit, simd::select(exhausted, t, t_end));
+  out.t = simd::select(crossed, t_hit, simd::select(exhausted, m.t, m.t_end));
   out.x = r.ox + out.t * r.dx;
   out.y = r.oy + out.t * r.dy;
   out.z = r.oz + out.t * r.dz;
@@ -456,22 +494,45 @@ inline MarchResult<A> march_packet(const MarchContext& c, simd::vfloat<A> ox, si
     out.grad_x = simd::select(crossed, gx, zero);
     out.grad_y = simd::select(crossed, gy, zero);
     out.slope_variance = simd::select(crossed, grid_field<A>(c, c.slope_variance, s, 0.0f), zero);
-    evaluations = evaluations + simd::select(crossed, one, zero);
+    m.evaluations = m.evaluations + simd::select(crossed, one, zero);
   }
-  out.status = simd::select(crossed, simd::select(sigma > zero, one, V(2.0f)), simd::select(exhausted, V(3.0f), zero));
-  out.evaluations = evaluations;
+  out.status = simd::select(crossed, simd::select(m.sigma > zero, one, V(2.0f)), simd::select(exhausted, V(3.0f), zero));
+  out.evaluations = m.evaluations;
   return out;
 }
 
-/// n rays in packets of the ISA's width (simd::for_batches). Padding lanes of the tail: a ray going
-/// up from above the slab, done before the first sample.
+/// N packets marched together: a step spends most of its time waiting for its gathers, and the other
+/// packets' steps fill that wait (docs/design.md 10). Each packet takes exactly the steps and
+/// iterations it takes alone, so its lanes get the bits they get alone.
+template <class A, std::size_t N>
+HOULE_MARCH_INLINE void march_packets(const MarchContext& c, MarchState<A> (&m)[N], MarchResult<A> (&out)[N]) {
+  for (std::int32_t it = 0; it < c.max_steps; ++it) {
+    bool stepped = false;
+    for (std::size_t k = 0; k < N; ++k) {
+      if (!simd::any(m[k].active)) continue;
+      march_step<A>(c, m[k], it);
+      stepped = true;
+    }
+    if (!stepped) break;
+  }
+  for (std::int32_t k = 0; k < c.refine_iterations; ++k) {
+    for (std::size_t p = 0; p < N; ++p) {
+      if (simd::any(m[p].crossed)) refine_step<A>(c, m[p]);
+    }
+  }
+  for (std::size_t p = 0; p < N; ++p) out[p] = march_result<A>(c, m[p]);
+}
+
+/// n rays in packets of the ISA's width, two at a time (simd::for_batch_pairs). Padding lanes of the
+/// tail: a ray going up from above the slab, done before the first sample.
 template <class A>
 void march_rays(const MarchContext& c, const MarchRays& rays, std::size_t n, const MarchHits& hits) noexcept {
-  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+  const auto start = [&](const auto& b) HOULE_BATCH_BODY {
     const simd::vfloat<A> t_max = rays.t_max != nullptr ? b.load(rays.t_max) : simd::vfloat<A>(c.max_distance);
-    const MarchResult<A> m = march_packet<A>(c, b.load(rays.ox, c.centre_x), b.load(rays.oy, c.centre_y),
-                                             b.load(rays.oz, c.z_hi + 1.0f), b.load(rays.dx), b.load(rays.dy),
-                                             b.load(rays.dz, 1.0f), t_max);
+    return march_start<A>(c, b.load(rays.ox, c.centre_x), b.load(rays.oy, c.centre_y), b.load(rays.oz, c.z_hi + 1.0f),
+                          b.load(rays.dx), b.load(rays.dy), b.load(rays.dz, 1.0f), t_max);
+  };
+  const auto store = [&](const auto& b, const MarchResult<A>& m) HOULE_BATCH_BODY {
     if (hits.t != nullptr) b.store(hits.t, m.t);
     if (hits.x != nullptr) b.store(hits.x, m.x);
     if (hits.y != nullptr) b.store(hits.y, m.y);
@@ -486,7 +547,22 @@ void march_rays(const MarchContext& c, const MarchRays& rays, std::size_t n, con
     if (hits.evaluations != nullptr) {
       b.store(hits.evaluations, m.evaluations, [](float e) { return static_cast<std::uint32_t>(e); });
     }
-  });
+  };
+  simd::for_batch_pairs<A>(
+      n,
+      [&](const auto& b0, const auto& b1) HOULE_BATCH_BODY {
+        MarchState<A> m[2] = {start(b0), start(b1)};
+        MarchResult<A> out[2];
+        march_packets<A, 2>(c, m, out);
+        store(b0, out[0]);
+        store(b1, out[1]);
+      },
+      [&](const auto& b) HOULE_BATCH_BODY {
+        MarchState<A> m[1] = {start(b)};
+        MarchResult<A> out[1];
+        march_packets<A, 1>(c, m, out);
+        store(b, out[0]);
+      });
 }
 
 }  // namespace houle::detail

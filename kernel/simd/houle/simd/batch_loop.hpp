@@ -74,4 +74,20 @@ inline __attribute__((always_inline)) void for_batches(std::size_t n, Body&& bod
   }
 }
 
+/// pair(b0, b1) for pairs of whole batches of [0, n), then one(b) for each batch left (a whole one,
+/// the tail, or both): for kernels whose batches wait on memory, two independent batches in flight.
+template <class A, class Pair, class One>
+inline __attribute__((always_inline)) void for_batch_pairs(std::size_t n, Pair&& pair, One&& one) {
+  constexpr std::size_t W = width<A>;
+  std::size_t i = 0;
+  for (; i + 2 * W <= n; i += 2 * W) pair(Batch<A, false>(i, W), Batch<A, false>(i + W, W));
+  if (i + W <= n) {
+    one(Batch<A, false>(i, W));
+    i += W;
+  }
+  if constexpr (W > 1) {
+    if (i < n) one(Batch<A, true>(i, n - i));
+  }
+}
+
 }  // namespace houle::simd
