@@ -57,10 +57,6 @@ LinearRgb operator*(LinearRgb a, float s) { return {a.r * s, a.g * s, a.b * s}; 
 LinearRgb operator*(LinearRgb a, LinearRgb b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
 LinearRgb operator+(LinearRgb a, LinearRgb b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
 float dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 normalized(Vec3 v) {
-  const float inv = 1.0f / std::sqrt(dot(v, v));
-  return {v[0] * inv, v[1] * inv, v[2] * inv};
-}
 SceneRay make_ray(const Vec3& o, const Vec3& n, float offset, const Vec3& d) {
   return {double(o[0]) + double(n[0] * offset), double(o[1]) + double(n[1] * offset),
           double(o[2]) + double(n[2] * offset), double(d[0]), double(d[1]), double(d[2])};
@@ -377,13 +373,14 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     float glint = 0.0f;
     const Vec3 v{-d[0], -d[1], -d[2]};
     const float rough = s.a[Scratch::rough][i];
-    const Vec3 half = normalized({v[0] + sun[0], v[1] + sun[1], v[2] + sun[2]});
-    const float cos_h = dot(n, half);
     // Skip the lobe where it is below e^-30 of its peak (tan^2 / 2 sigma^2 > 30): most of the sea. The
     // test widens with the variance, so it is asked first with the most the LOD can leave out
-    // (dropped_max): most pixels then skip the sum over the octaves too.
-    const auto in_lobe = [cos_h](float variance) {
-      return cos_h > 0.0f && (1.0f - cos_h * cos_h) < 60.0f * (variance + sun_disc_slope_variance) * cos_h * cos_h;
+    // (dropped_max): most pixels then skip the sum over the octaves too. With the half vector h = v + sun
+    // unnormalised, cos^2 = (n.h)^2 / h.h: the test multiplied through by h.h needs no square root.
+    const Vec3 half{v[0] + sun[0], v[1] + sun[1], v[2] + sun[2]};
+    const float nh = dot(n, half), hh = dot(half, half);
+    const auto in_lobe = [nh, hh](float variance) {
+      return nh > 0.0f && (hh - nh * nh) < 60.0f * (variance + sun_disc_slope_variance) * nh * nh;
     };
     if (lit && in_lobe(dropped_max + rough)) {
       const float variance = (noise != nullptr ? dropped(s.a[Scratch::level][i]) : 0.0f) + rough;
@@ -679,11 +676,14 @@ void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
   const float inv = 1.0f / float(samples);
   float* dst = out->rgb.data() + std::size_t(row) * w * 3;
   const float* acc = s.accumulated.data();
+  std::uint64_t nonfinite = 0;  // a sum of finite samples can still overflow
   for (std::size_t i = 0; i < 3 * w; ++i) {
     const float v = acc[i] * inv;
-    dst[i] = std::isfinite(v) ? v : 0.0f;  // a sum of finite samples can still overflow
-    if (!std::isfinite(v)) ++s.counters.nonfinite;
+    const bool finite = std::isfinite(v);
+    dst[i] = finite ? v : 0.0f;
+    nonfinite += !finite;
   }
+  s.counters.nonfinite += nonfinite;
   s.shade_ns += (Clock::now() - t4).count();
 }
 
