@@ -99,6 +99,7 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   // by less than 1.5 times its height above the waterplane as it tilts.
   RenderScene render_scene = make_render_scene(s);
   if (plan.surf) render_scene.surf = sea.value().surf_map(s);
+  render_scene.sea_height_bound = sea->height_bound();
   std::vector<FloatingObject> floating = floating_objects(s, render_scene.boxes.size() - s.boxes.size());
   const double float_bound = double(sea->height_bound());
   for (const FloatingObject& f : floating) {

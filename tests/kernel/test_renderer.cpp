@@ -186,39 +186,44 @@ TEST(Renderer, NoStateCarriedBetweenFrames) {
 
 TEST(Renderer, StillCameraReusesPrimaryHitsAndChangesNoByte) {
   // A beach rising out of the sea ahead: primary rays meet the floor above the sea's slab, whose
-  // bottom (the floor search's cut) moves with the waves. A renderer that keeps its primary hits from
-  // frame to frame gives every frame the bytes of a fresh one, also after the camera moved and came back.
+  // bottom would move with the waves. With the scene's bound of the sea's height the cut stays put and
+  // a still camera keeps every primary hit from frame to frame; without it the cut follows each frame's
+  // slab and the hits are found again whenever it moves. Either way every frame has the bytes of a
+  // fresh renderer's, also after the camera moved and came back.
   RenderScene scene = test_scene();
   for (std::uint32_t j = 0; j < scene.floor.ny; ++j) {
     for (std::uint32_t i = 0; i < scene.floor.nx; ++i) {
       scene.floor.z[j * scene.floor.nx + i] = -3.0f + 0.06f * float(j) * 5.0f - 0.8f * std::sin(0.7f * float(i));
     }
   }
+  RenderScene bounded = scene;
+  bounded.sea_height_bound = 0.4f;  // two_trains' amplitudes
   RenderQuality q;
   q.samples_per_pixel = 4;
   const Camera cam = default_cam();
   const Camera other = make_cam({1.0f, 0.0f, 3.0f}, {0.0f, 50.0f, 0.0f});
-  Renderer used = make_renderer(scene, W, H, q, 2);
+  Renderer kept_bounded = make_renderer(bounded, W, H, q, 2), kept_unbounded = make_renderer(scene, W, H, q, 2);
   Framebuffer kept(W, H), alone(W, H);
-  int frame = 0;
-  for (double t : {1.0, 1.1, 1.2, 4.0, 1.15, 2.5, 2.6, 0.3}) {
-    const houle::SurfaceFrame s = make_surface(t, 0.0f, 0.0f, frame == 4);  // a flat sea: the cut moves up
+  const double times[] = {1.0, 1.1, 1.1, 1.2, 4.0, 1.15, 2.5, 2.6, 0.3};
+  for (std::size_t frame = 0; frame < std::size(times); ++frame) {
+    const double t = times[frame];
+    const houle::SurfaceFrame s = make_surface(t, 0.0f, 0.0f, frame == 4);  // a flat sea: its slab moves up
     const houle::CapillaryFrame n = make_noise(t);
-    const Camera& c = frame == 5 ? other : cam;
-    used.render(s, &n, nullptr, c, kept);
-    Renderer fresh = make_renderer(scene, W, H, q, 1);
-    fresh.render(s, &n, nullptr, c, alone);
-    EXPECT_TRUE(same_bytes(kept, alone)) << "t " << t;
-    const houle::RenderCounters& k = used.last_counters();
-    const std::uint64_t samples = k.sea + k.object + k.sky;
-    if (frame == 0 || frame == 5 || frame == 6) {
-      EXPECT_EQ(k.reused, 0u) << "t " << t;  // the camera moved: found again
-    } else if (frame == 4 || frame == 7) {
-      EXPECT_GT(k.reused, samples / 2) << "t " << t;  // the cut jumped: the rays whose cell it crossed walk again
-    } else {
-      EXPECT_EQ(k.reused, samples) << "t " << t;
+    const Camera& c = frame == 6 ? other : cam;
+    for (const RenderScene* sc : {&bounded, &scene}) {
+      Renderer& used = sc == &bounded ? kept_bounded : kept_unbounded;
+      used.render(s, &n, nullptr, c, kept);
+      Renderer fresh = make_renderer(*sc, W, H, q, 1);
+      fresh.render(s, &n, nullptr, c, alone);
+      EXPECT_TRUE(same_bytes(kept, alone)) << "t " << t << (sc == &bounded ? " bounded" : " unbounded");
     }
-    ++frame;
+    const houle::RenderCounters& b = kept_bounded.last_counters();
+    const houle::RenderCounters& u = kept_unbounded.last_counters();
+    const std::uint64_t samples = b.sea + b.object + b.sky;
+    const bool moved = frame == 0 || frame == 6 || frame == 7;  // the first frame, the camera away and back
+    EXPECT_EQ(b.reused, moved ? 0u : samples) << "t " << t;
+    // Unbounded, only the repeated frame has the cut of the frame before.
+    EXPECT_EQ(u.reused, frame == 2 ? samples : 0u) << "t " << t;
   }
 }
 
@@ -1181,59 +1186,6 @@ TEST(SceneObjects, FlatFloorMeetsEveryRayThatGoesDownToIt) {
   EXPECT_EQ(missed, 0) << "of " << rays;
 }
 
-TEST(SceneObjects, PrimaryMemoGivesIntersectsBitsWhateverTheFloorCut) {
-  // A still camera's rays over a bumpy floor with boxes and spheres, each asked again and again with
-  // the lower cut (floor_z_lo) moving the way the sea's slab does: the memo's answer must be
-  // intersect()'s, bit for bit, whether it reused the last answer or walked again.
-  Lcg rnd{4242u};
-  // A beach rising towards -y, with bumps: from about -11 m offshore to 2 m on land.
-  RenderScene s = floor_grid(-40.0f, -10.0f, 0.5f, 240, 260, [&](std::uint32_t i, std::uint32_t j) {
-    return 2.0 - 0.05 * j + 0.6 * std::sin(0.3 * i) * std::cos(0.23 * j) + 0.2 * (rnd() - 0.5);
-  });
-  for (int k = 0; k < 12; ++k) {
-    s.boxes.push_back({{float(60.0 * rnd() - 30.0), float(100.0 * rnd()), float(2.0 * rnd() - 1.5)},
-                       {float(0.3 + 2.0 * rnd()), float(0.3 + rnd()), float(0.3 + 1.5 * rnd())}, float(6.28 * rnd()), {}});
-    s.spheres.push_back({{float(60.0 * rnd() - 30.0), float(100.0 * rnd()), float(2.0 * rnd() - 1.0)}, float(0.2 + rnd()), {}});
-  }
-  auto built = SceneObjects::build(s);
-  ASSERT_TRUE(built.ok());
-  const SceneObjects& o = built.value();
-  const auto same = [](const houle::detail::SurfaceHit& a, const houle::detail::SurfaceHit& b) {
-    return std::memcmp(&a.t, &b.t, sizeof a.t) == 0 && a.kind == b.kind && a.index == b.index &&
-           std::memcmp(a.normal.data(), b.normal.data(), sizeof a.normal) == 0;
-  };
-  constexpr int rays = 1500;
-  std::vector<SceneRay> ray(rays);
-  std::vector<houle::detail::PrimaryMemo> memo(rays);
-  for (SceneRay& r : ray) {
-    const double az = 0.8 + 1.5 * rnd(), el = 0.3 - 0.5 * rnd();  // mostly north, from 17 up to 12 down
-    r = ray_to({0.0, -8.0, 3.0}, {std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)});
-  }
-  // Cuts drifting by centimetres through the floor's range as a slab does from frame to frame, some
-  // repeated (a memo holding `exactly` is reused only for its own cut), jumps, and cuts outside the
-  // range: none, and above the floor's top (no walk at all).
-  std::vector<double> cuts{-1.5};
-  for (int k = 0; k < 60; ++k) cuts.push_back(k % 7 == 3 ? cuts[std::size_t(double(k) * rnd())] : cuts.back() + 0.06 * (rnd() - 0.5));
-  for (int k = 0; k < 6; ++k) cuts.push_back(-3.0 + 2.5 * rnd());
-  cuts.insert(cuts.begin() + 17, -std::numeric_limits<double>::infinity());
-  cuts.insert(cuts.begin() + 31, 10.0);
-  long reused_count = 0, walked = 0;
-  for (std::size_t c = 0; c < cuts.size(); ++c) {
-    for (int k = 0; k < rays; ++k) {
-      const float t_max = 1e5f;
-      bool reused = false;
-      const auto h = o.intersect_primary(ray[std::size_t(k)], t_max, cuts[c], memo[std::size_t(k)], c == 0, reused);
-      const auto ref = o.intersect(ray[std::size_t(k)], 0.0, double(t_max), cuts[c]);
-      ASSERT_TRUE(same(h, ref)) << "cut " << cuts[c] << " ray " << k << ": t " << h.t << " vs " << ref.t;
-      reused_count += reused;
-      walked += !reused;
-    }
-  }
-  // Most answers are reused, some walked again.
-  EXPECT_GT(reused_count, 20 * walked);
-  EXPECT_GT(walked, rays);
-}
-
 TEST(SceneObjects, HierarchyFindsWhatEachObjectAloneFinds) {
   // 150 random boxes and spheres: the nearest hit through the hierarchy equals the nearest of the
   // hits of one-object scenes, and any-hit agrees with it.
@@ -1441,6 +1393,7 @@ TEST(Renderer, MovingObjectsGiveTheBytesOfAFreshRenderer) {
   }
   scene.boxes.push_back({{-3.0f, 15.0f, 0.3f}, {1.0f, 0.6f, 0.5f}, 0.3f, {0.9f, 0.8f, 0.1f}, 1.5f});
   scene.spheres[0].motion = 1.0f;
+  scene.sea_height_bound = 0.4f;  // two_trains' amplitudes: the primary rays' cut stays put
   RenderQuality q;
   q.samples_per_pixel = 4;
   const Camera cam = default_cam();

@@ -26,9 +26,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Vec3 = std::array<float, 3>;
 using detail::HitKind;
-using detail::PrimaryMemo;
 using detail::SceneRay;
 using detail::SurfaceHit;
+
+/// What a primary ray met (primary_hits), and whether it met a moving object's bounds then.
+struct PrimaryMemo {
+  SurfaceHit hit;
+  bool movers = false;
+};
 
 constexpr float pi = std::numbers::pi_v<float>;
 
@@ -49,8 +54,9 @@ constexpr float sky_water_transmission = 0.934f;
 // The exposure never follows a sun near or below the horizon further down than this (klx): the sky
 // would otherwise be blown up without limit.
 constexpr double min_reference_klx = 10.0;
-// One PrimaryMemo per pixel and sample, up to Renderer::max_kept_bytes: a 1920 x 1080 image at one
-// sample keeps 127 MiB; at 8 samples (film) it would be 1 GiB, which a film render does without.
+// One PrimaryMemo per pixel and sample, up to Renderer::max_kept_bytes: a 1920 x 1080 image keeps 55 MiB
+// at one sample and 221 MiB at four; at 8 samples (film) it would be 443 MiB, which a film render does
+// without.
 static_assert(sizeof(PrimaryMemo) == Renderer::kept_hit_bytes);
 
 LinearRgb operator*(LinearRgb a, float s) { return {a.r * s, a.g * s, a.b * s}; }
@@ -131,7 +137,7 @@ struct alignas(64) Scratch {
     dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, rough, side, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr,
     ax, ay, az, sky_r, sky_g, sky_b, foam, on_sand, qx, qy, qz, footprint, sand_r, sand_g, sand_b, lit,
     seen_r, seen_g, seen_b, seen_t, seen_path, seen_illumination, under_r, under_g, under_b,
-    // A row's secondary rays, packed (nearest_hits): ray k is pixel ray_pixel[k]'s.
+    // A row's primary or secondary rays, packed (nearest_hits): ray k is pixel ray_pixel[k]'s.
     ray_ox, ray_oy, ray_oz, ray_dx, ray_dy, ray_dz, ray_reach, hit_t, hit_nx, hit_ny, hit_nz, hit_left, hit_objects, count
   };
   std::vector<float> memory;
@@ -170,6 +176,7 @@ struct Renderer::Impl {
   const Offset* offsets = offsets_1;
   int samples = 1;
   float max_distance = 1e5f;
+  float sea_height_bound = std::numeric_limits<float>::infinity();  ///< RenderScene's
 
   // Light in the renderer's relative units (see renderer.hpp).
   Vec3 sun{0.0f, 0.0f, 1.0f};
@@ -192,10 +199,11 @@ struct Renderer::Impl {
   std::unique_ptr<detail::ThreadPool> pool;
   std::vector<std::unique_ptr<Scratch>> scratch;
   // The primary rays' object and floor hits, row by row (row r, sample k: entries (r samples + k) width
-  // onwards), and the camera they were found for: a still camera finds them there the next frame.
+  // onwards), and the camera and cut they were found for: a still camera finds them there the next frame.
   std::vector<PrimaryMemo> memo;
   Camera memo_camera;
-  bool memo_refill = true;  // this frame: the camera moved
+  double memo_cut = std::numeric_limits<double>::quiet_NaN();  // NaN: none kept yet
+  bool memo_refill = true;  // this frame: the camera or the cut moved
   FrameTimes times;
   RenderCounters counters;
 
@@ -235,8 +243,9 @@ struct Renderer::Impl {
   LinearRgb through_water_to(const SurfaceHit& h, LinearRgb albedo, const Vec3& p, const Vec3& d,
                              float illumination) const noexcept;
   static void pack_ray(Scratch& s, std::size_t k, std::size_t i, const Vec3& p, const Vec3& offset_normal, float offset,
-                       const Vec3& d) noexcept;
-  void nearest_hits(Scratch& s, std::size_t rays, float reach, std::vector<SurfaceHit>& hits) const noexcept;
+                       const Vec3& d, float reach) noexcept;
+  void nearest_hits(Scratch& s, std::size_t rays, std::vector<SurfaceHit>& hits) const noexcept;
+  void primary_hits(Scratch& s, PrimaryMemo* memo_row) noexcept;
   void find_water_hits(Scratch& s) const noexcept;
   void find_air_hits(Scratch& s) const noexcept;
   void light_under_water(Scratch& s) const noexcept;
@@ -405,34 +414,35 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
 }
 
 /// Packs pixel i's ray from p, moved off the surface by `offset` along offset_normal, along d as the
-/// row's k-th secondary ray (nearest_hits).
+/// row's k-th ray (nearest_hits), met up to `reach` m.
 void Renderer::Impl::pack_ray(Scratch& s, std::size_t k, std::size_t i, const Vec3& p, const Vec3& offset_normal,
-                              float offset, const Vec3& d) noexcept {
+                              float offset, const Vec3& d, float reach) noexcept {
   const Vec3 o = along(p, offset_normal, offset);
   float* const* a = s.a;
   a[Scratch::ray_ox][k] = o[0], a[Scratch::ray_oy][k] = o[1], a[Scratch::ray_oz][k] = o[2];
   a[Scratch::ray_dx][k] = d[0], a[Scratch::ray_dy][k] = d[1], a[Scratch::ray_dz][k] = d[2];
+  a[Scratch::ray_reach][k] = reach;
   s.ray_pixel[k] = std::uint32_t(i);
 }
 
-/// The nearest hit of each of the row's `rays` packed rays within `reach`, into hits[pixel] (none for
-/// the other pixels): the floor a packet at a time (floor_hits, docs/rendering.md 1.5), then the boxes
-/// and spheres before it one by one where the packets say the ray may meet their bounds; the rays the
-/// packets leave go through SceneObjects' walk.
-void Renderer::Impl::nearest_hits(Scratch& s, std::size_t rays, float reach, std::vector<SurfaceHit>& hits) const noexcept {
+/// The nearest hit of each of the row's `rays` packed rays within its reach, into hits[pixel] (the
+/// other pixels' entries are left as they are): the floor a packet at a time (floor_hits,
+/// docs/rendering.md 1.5), then the boxes and spheres before it one by one where the packets say the
+/// ray may meet their bounds; the rays the packets leave go through SceneObjects' walk.
+void Renderer::Impl::nearest_hits(Scratch& s, std::size_t rays, std::vector<SurfaceHit>& hits) const noexcept {
   float* const* a = s.a;
-  std::fill(a[Scratch::ray_reach], a[Scratch::ray_reach] + rays, reach);
   detail::floor_hits(objects.floor_grid(), objects.object_bounds(),
                      {a[Scratch::ray_ox], a[Scratch::ray_oy], a[Scratch::ray_oz], a[Scratch::ray_dx], a[Scratch::ray_dy],
                       a[Scratch::ray_dz], a[Scratch::ray_reach]},
                      rays,
                      {a[Scratch::hit_t], a[Scratch::hit_nx], a[Scratch::hit_ny], a[Scratch::hit_nz], a[Scratch::hit_left],
                       a[Scratch::hit_objects]});
-  std::fill(hits.begin(), hits.end(), SurfaceHit{});
   for (std::size_t k = 0; k < rays; ++k) {
     const SceneRay r{a[Scratch::ray_ox][k], a[Scratch::ray_oy][k], a[Scratch::ray_oz][k],
                      a[Scratch::ray_dx][k], a[Scratch::ray_dy][k], a[Scratch::ray_dz][k]};
+    const float reach = a[Scratch::ray_reach][k];
     SurfaceHit& h = hits[s.ray_pixel[k]];
+    h = SurfaceHit{};
     if (a[Scratch::hit_left][k] > 0.0f) {
       h = objects.intersect_secondary(r, 0.0, double(reach));
       continue;
@@ -461,9 +471,10 @@ void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
     const float side = a[Scratch::side][i];
     if (side == 0.0f || (side > 0.0f && !(a[Scratch::kr][i] < 1.0f))) continue;
     pack_ray(s, rays++, i, hit_point(i), {-a[Scratch::nx][i], -a[Scratch::ny][i], -a[Scratch::nz][i]},
-             1e-3f + 1e-4f * a[Scratch::t][i], direction(i));
+             1e-3f + 1e-4f * a[Scratch::t][i], direction(i), std::min(underwater_reach, max_distance));
   }
-  nearest_hits(s, rays, std::min(underwater_reach, max_distance), s.under);
+  std::fill(s.under.begin(), s.under.end(), SurfaceHit{});
+  nearest_hits(s, rays, s.under);
   for (std::size_t i = 0; i < width; ++i) {
     const float side = a[Scratch::side][i];
     const SurfaceHit* h = side != 0.0f ? &s.under[i] : &s.object[i];
@@ -492,10 +503,11 @@ void Renderer::Impl::find_air_hits(Scratch& s) const noexcept {
       if (side == 0.0f || (side < 0.0f && !(a[Scratch::kr][i] < 1.0f))) continue;
       pack_ray(s, rays++, i, {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]},
                {a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]}, 1e-3f + 1e-4f * a[Scratch::t][i],
-               {a[Scratch::ax][i], a[Scratch::ay][i], a[Scratch::az][i]});
+               {a[Scratch::ax][i], a[Scratch::ay][i], a[Scratch::az][i]}, max_distance);
     }
   }
-  nearest_hits(s, rays, max_distance, s.air);
+  std::fill(s.air.begin(), s.air.end(), SurfaceHit{});
+  nearest_hits(s, rays, s.air);
 }
 
 /// For each sea hit seen from above, whether the sun reaches it (s.lit) and the light its refracted ray
@@ -637,6 +649,39 @@ void Renderer::Impl::add_aovs(const Scratch& s, std::uint32_t row, int sample) c
   }
 }
 
+/// The primary rays' object and floor hits for the row's directions, into s.object, and the marcher's
+/// t_max from them (docs/rendering.md 2.4). They depend on the camera, the cut and the objects' poses
+/// only: with a memo row (one entry per pixel), a ray keeps the hit found when the camera and the cut
+/// were this frame's unless it meets a moving object's bounds, now or then; the others are found, a
+/// packet at a time (nearest_hits), and kept.
+void Renderer::Impl::primary_hits(Scratch& s, PrimaryMemo* memo_row) noexcept {
+  float* const* a = s.a;
+  const Vec3& o = camera.position;
+  const bool movers = objects.has_movers();
+  std::size_t rays = 0;
+  for (std::size_t i = 0; i < width; ++i) {
+    const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
+    // Past the cut a ray from above has crossed the sea: its floor and objects there are not seen.
+    const float reach =
+        d[2] < 0.0f ? std::min(max_distance, float((primary_floor_lo - double(o[2])) / double(d[2]))) : max_distance;
+    const bool meets_movers = movers && objects.meets_movers(make_ray(o, d, 0.0f, d), double(reach));
+    if (memo_row != nullptr && !memo_refill && !meets_movers && !memo_row[i].movers) {
+      s.object[i] = memo_row[i].hit;
+      ++s.counters.reused;
+      continue;
+    }
+    if (memo_row != nullptr) memo_row[i].movers = meets_movers;
+    pack_ray(s, rays++, i, o, {0.0f, 0.0f, 0.0f}, 0.0f, d, reach);
+  }
+  nearest_hits(s, rays, s.object);
+  if (memo_row != nullptr) {
+    for (std::size_t k = 0; k < rays; ++k) memo_row[s.ray_pixel[k]].hit = s.object[s.ray_pixel[k]];
+  }
+  for (std::size_t i = 0; i < width; ++i) {
+    a[Scratch::t_max][i] = s.object[i].kind != HitKind::none ? s.object[i].t : max_distance;
+  }
+}
+
 void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
   const std::size_t w = width;
   float* const* a = s.a;
@@ -648,20 +693,7 @@ void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
   for (int k = 0; k < samples; ++k) {
     const auto t0 = Clock::now();
     camera_row_rays(camera, row, 0, w, offsets[k].x, offsets[k].y, a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]);
-    // t_max for the marcher: the nearest object or land in front of the sea.
-    PrimaryMemo* const memo_row = memo.empty() ? nullptr : memo.data() + (std::size_t(row) * samples + k) * w;
-    for (std::size_t i = 0; i < w; ++i) {
-      const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
-      const SceneRay ray = make_ray(camera.position, d, 0.0f, d);
-      if (memo_row != nullptr) {
-        bool reused = false;
-        s.object[i] = objects.intersect_primary(ray, max_distance, primary_floor_lo, memo_row[i], memo_refill, reused);
-        s.counters.reused += reused;
-      } else {
-        s.object[i] = objects.intersect(ray, 0.0, double(max_distance), primary_floor_lo);
-      }
-      a[Scratch::t_max][i] = s.object[i].kind != HitKind::none ? s.object[i].t : max_distance;
-    }
+    primary_hits(s, memo.empty() ? nullptr : memo.data() + (std::size_t(row) * samples + k) * w);
     const auto t1 = Clock::now();
     march_rays(*surface, march, rays, w, hits);
     const auto t2 = Clock::now();
@@ -715,6 +747,7 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
   impl->height = height;
   const float md = quality.march.max_distance;
   impl->max_distance = std::isfinite(md) && md > 0.0f ? std::min(md, 1e9f) : 1e5f;
+  impl->sea_height_bound = scene.sea_height_bound;
 
   auto objects = detail::SceneObjects::build(scene);
   if (!objects) return objects.error();
@@ -854,10 +887,6 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   r.dropped = params != nullptr ? DroppedSlopeVariance(*params) : DroppedSlopeVariance();
   r.dropped_max = r.noise != nullptr ? float(double(r.dropped.octave_variance) * r.dropped.octaves) : 0.0f;
   r.camera = camera;
-  // Every field of the camera, bit for bit (no padding: sizeof is the sum of the fields).
-  static_assert(sizeof(Camera) == 16 * 4);
-  r.memo_refill = std::memcmp(&r.memo_camera, &camera, sizeof(Camera)) != 0;
-  r.memo_camera = camera;
   r.out = &out;
   r.view = view;
   r.aovs = !out.depth.empty() || !out.normal.empty() || !out.alpha.empty() || !out.sea.empty();
@@ -866,11 +895,22 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   r.march.quality = r.quality.march;
   r.march.noise = r.noise;
   r.camera_under = camera.position[2] < surface.height_at(camera.position[0], camera.position[1]);
-  // Below the sea's slab a primary ray from above has crossed the sea: the floor matters only above it.
+  // Below the sea's slab a primary ray from above has crossed the sea: the floor and the objects
+  // matter only above it. The scene's bound of the sea's height, when this frame lies within it, gives
+  // a cut that does not move with the waves, so that a still camera's primary hits hold from frame to
+  // frame (primary_hits); the frame's own slab otherwise.
   const float grid_min = surface.view().global.h_min;
   const float noise_bound = r.noise != nullptr ? capillary_height_bound(r.noise->params, capillary_top_level(r.noise->params)) : 0.0f;
-  r.primary_floor_lo = r.camera_under ? -std::numeric_limits<double>::infinity()
-                                      : double(std::min(surface.z_min(), grid_min - noise_bound)) - 0.01;
+  const double frame_cut = double(std::min(surface.z_min(), grid_min - noise_bound)) - 0.01;
+  const double scene_cut = -(double(r.sea_height_bound) + double(noise_bound)) - 0.01;
+  r.primary_floor_lo = r.camera_under                                       ? -std::numeric_limits<double>::infinity()
+                       : std::isfinite(scene_cut) && scene_cut <= frame_cut ? scene_cut
+                                                                            : frame_cut;
+  // Every field of the camera, bit for bit (no padding: sizeof is the sum of the fields).
+  static_assert(sizeof(Camera) == 16 * 4);
+  r.memo_refill = std::memcmp(&r.memo_camera, &camera, sizeof(Camera)) != 0 || !(r.primary_floor_lo == r.memo_cut);
+  r.memo_camera = camera;
+  r.memo_cut = r.primary_floor_lo;
   for (auto& s : r.scratch) {
     s->march_ns = s->intersect_ns = s->shade_ns = 0;
     s->counters = {};

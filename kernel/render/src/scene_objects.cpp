@@ -353,8 +353,6 @@ struct SceneObjects::FloorQuery {
   WalkRay w;
   double t_hit;                   // t_max until a hit
   std::array<float, 3>* normal;  // written on a hit when not null
-  double cell_start, cell_end;  // the cell the hit was found in, as passed to hit_cell
-  bool blocks_pass;             // the hit's blocks pass their skip test with the cell's end as theirs
 };
 
 SceneObjects::FloorSpan SceneObjects::floor_span(const SceneRay& r, double t_min, double t_max, double z_lo) const noexcept {
@@ -391,14 +389,6 @@ int SceneObjects::first_level(const SceneRay& r, double t0, double t1) const noe
   return level;
 }
 
-SceneObjects::FloorWalk SceneObjects::walk_floor(const SceneRay& r, const FloorSpan& span, double t_max,
-                                                 std::array<float, 3>* normal) const noexcept {
-  const double inv_dx = r.dx != 0.0 ? 1.0 / r.dx : inf, inv_dy = r.dy != 0.0 ? 1.0 / r.dy : inf;
-  FloorQuery q{{r, inv_dx, inv_dy}, t_max, normal, inf, inf, true};
-  walk_level(span.level, q, span.t0, span.t1, max_start_steps);
-  return {q.t_hit, q.cell_start, q.cell_end, q.blocks_pass};
-}
-
 double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, double z_lo, std::array<float, 3>* normal,
                                bool skip_clear) const noexcept {
   FloorSpan span = floor_span(r, t_min, t_max, z_lo);
@@ -410,16 +400,10 @@ double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, do
     if (!(span.t0 < span.t1)) return t_max;
     span.level = first_level(r, span.t0, span.t1);
   }
-  return walk_floor(r, span, t_max, normal).t;
-}
-
-double SceneObjects::farthest_end(const SceneRay& r, const FloorSpan& span, double t_max) const noexcept {
-  const double whole = floor_span(r, span.t0, t_max, -inf).t1;  // no cut: down to the floor's lowest point
-  if (whole <= span.t1 || first_level(r, span.t0, whole) == span.level) return std::max(whole, span.t1);
-  // The level grows once the segment is more than 4 of its blocks long: the end just short of that.
-  double t = span.t0 + 4.0 * level_size_[span.level] / std::sqrt(r.dx * r.dx + r.dy * r.dy);
-  for (int k = 0; k < 8 && first_level(r, span.t0, t) > span.level; ++k) t = std::nextafter(t, -inf);
-  return t > span.t1 && t < whole && first_level(r, span.t0, t) == span.level ? t : span.t1;
+  const double inv_dx = r.dx != 0.0 ? 1.0 / r.dx : inf, inv_dy = r.dy != 0.0 ? 1.0 / r.dy : inf;
+  FloorQuery q{{r, inv_dx, inv_dy}, t_max, normal};
+  walk_level(span.level, q, span.t0, span.t1, max_start_steps);
+  return q.t_hit;
 }
 
 bool SceneObjects::walk_level(int level, FloorQuery& q, double ta, double tb, std::int64_t steps) const noexcept {
@@ -431,11 +415,7 @@ bool SceneObjects::walk_level(int level, FloorQuery& q, double ta, double tb, st
   constexpr std::int64_t nested_steps = 2 * block_cells + 8;
   if (level == 0) {
     return walk_cells(origin_x_, origin_y_, size, inv_size, q.w, ta, tb, steps,
-                      [&](std::int64_t i, std::int64_t j, double a, double b) {
-                        if (!hit_cell(q, i, j, a, b)) return false;
-                        q.cell_start = a, q.cell_end = b;
-                        return true;
-                      });
+                      [&](std::int64_t i, std::int64_t j, double a, double b) { return hit_cell(q, i, j, a, b); });
   }
   const std::vector<float>& m = level_max_[level];
   const std::int64_t bx = level_nx_[level], by = level_ny_[level];
@@ -445,9 +425,7 @@ bool SceneObjects::walk_level(int level, FloorQuery& q, double ta, double tb, st
                                                         std::clamp<std::int64_t>(i, 0, bx - 1));
                       // Passing above the whole block: nothing in it.
                       if (std::min(r.oz + a * r.dz, r.oz + b * r.dz) > double(m[k])) return false;
-                      if (!walk_level(level - 1, q, a, b, nested_steps)) return false;
-                      q.blocks_pass = q.blocks_pass && !(std::min(r.oz + a * r.dz, r.oz + q.cell_end * r.dz) > double(m[k]));
-                      return true;
+                      return walk_level(level - 1, q, a, b, nested_steps);
                     });
 }
 
@@ -621,17 +599,6 @@ SurfaceHit SceneObjects::intersect_secondary(const SceneRay& r, double t_min, do
   return nearest(r, t_min, t_max, -inf, true);
 }
 
-SurfaceHit SceneObjects::intersect_primary(const SceneRay& r, float t_max, double floor_z_lo, PrimaryMemo& memo,
-                                           bool refill, bool& reused) const noexcept {
-  // What the memo holds of a ray that met a moving object's bounds, or that meets them now, may not
-  // be this frame's objects: the ray starts afresh. Elsewhere the moving objects are not met, now or
-  // then, and the memo's objects and floor walks are the fixed scene's.
-  const bool movers = !movers_.empty() && meets_movers(r, double(t_max));
-  const SurfaceHit hit = intersect_memo(r, t_max, floor_z_lo, memo, refill || movers || memo.movers, reused);
-  memo.movers = movers;
-  return hit;
-}
-
 bool SceneObjects::meets_movers(const SceneRay& r, double t_max) const noexcept {
   const double inv[3] = {1.0 / r.dx, 1.0 / r.dy, 1.0 / r.dz};
   const double o[3] = {r.ox, r.oy, r.oz};
@@ -703,63 +670,6 @@ void SceneObjects::move_sphere(std::size_t k, const std::array<float, 3>& center
   clamp_centre(center, m.rest, m.motion, sp.cx, sp.cy, sp.cz);
   const double centre[3] = {sp.cx, sp.cy, sp.cz}, reach[3] = {sp.radius, sp.radius, sp.radius};
   set_bounds(m.lo, m.hi, centre, reach);
-}
-
-SurfaceHit SceneObjects::intersect_memo(const SceneRay& r, float t_max, double floor_z_lo, PrimaryMemo& memo,
-                                        bool refill, bool& reused) const noexcept {
-  reused = !refill;
-  if (refill) memo = {.objects = hit_objects(r, 0.0, double(t_max))};
-  const SurfaceHit& objects = memo.objects;
-  const double best = objects.kind == HitKind::none ? double(t_max) : double(objects.t);
-  const FloorSpan span = floor_span(r, 0.0, best, floor_z_lo);
-  if (!span.walk) return objects;
-  std::array<float, 3> n{};
-  const auto floor_or_objects = [&](double t) { return t < best ? SurfaceHit{float(t), HitKind::floor, 0, n} : objects; };
-  // A ray from below the cut rising through it starts its walk where it crosses the cut: not one of
-  // the walks the memo knows, which all start at the same place.
-  if (r.oz < std::max(z_min_, floor_z_lo)) {
-    reused = false;
-    return floor_or_objects(walk_floor(r, span, best, &n).t);
-  }
-  // Why the ranges hold for walks from the same start and first level, whose blocks, cells and
-  // their starts and ends do not depend on t1. At every level the walk visits blocks in order of t
-  // and passes each [its start, min(its end, the end it was given)], and t1 is the first level's end.
-  // A smaller t1 visits a prefix of the same blocks, the last one shorter, where the levels below and
-  // the cells find a subset of what the longer walk found: nothing before the cell a hit was found in,
-  // which t1 < its start does not reach. A t1 beyond the end that cell was given reaches it through
-  // the same blocks, each given at least that end, so their skip tests pass as they do with it
-  // (blocks_pass, monotonic in the end), and the cell's own segment is the same or longer: the same
-  // nearest root. Any t1 beyond the walk's own end does the same with every segment longer.
-  if (span.level == memo.level) {
-    if (span.t1 <= memo.clear_upto) return objects;
-    if (span.t1 >= memo.hit_from) return {memo.floor_t, HitKind::floor, 0, memo.floor_normal};
-  }
-  reused = false;
-  if (span.level != memo.level) memo = {.objects = objects};
-  memo.level = std::int8_t(span.level);
-  const auto remember = [&](const FloorWalk& w, double end) {
-    if (w.t < best) {
-      memo.floor_t = float(w.t);
-      memo.floor_normal = n;
-      memo.hit_from = std::min(memo.hit_from, w.cell_end < end && w.blocks_pass ? std::nextafter(w.cell_end, inf) : end);
-      memo.clear_upto = std::max(memo.clear_upto, std::nextafter(w.cell_start, -inf));
-    } else {
-      memo.clear_upto = std::max(memo.clear_upto, end);
-    }
-  };
-  // From the second frame of a shot on, as far as this level allows rather than to t1: frames whose
-  // cut is lower are then known too. (Not in the first: a moving camera would pay it every frame.)
-  if (!refill) {
-    const FloorSpan far{span.t0, farthest_end(r, span, best), span.level, true};
-    remember(walk_floor(r, far, best, &n), far.t1);
-    if (span.t1 <= memo.clear_upto) return objects;
-    if (span.t1 >= memo.hit_from) return {memo.floor_t, HitKind::floor, 0, memo.floor_normal};
-  }
-  // The first frame, or a cut in the hit's cell: this frame's own walk, which narrows the range left
-  // unknown (the cut's next visits to this cell walk only outside what the visits so far have seen).
-  const FloorWalk w = walk_floor(r, span, best, &n);
-  remember(w, span.t1);
-  return floor_or_objects(w.t);
 }
 
 bool SceneObjects::occluded(const SceneRay& r, double t_min, double t_max, bool floor) const noexcept {

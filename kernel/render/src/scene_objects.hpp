@@ -38,20 +38,6 @@ struct SurfaceHit {
   std::array<float, 3> normal{0.0f, 0.0f, 1.0f};  ///< unit, outward (floor: up)
 };
 
-/// What a primary ray met, kept from one frame to the next by SceneObjects::intersect_primary. Of
-/// what the nearest hit depends on, only floor_z_lo changes from frame to frame (the sea's slab moves
-/// with the waves), and it moves only the end t1 of the floor walk: the memo keeps, for walks from the
-/// same first level, a range of t1 that meets no floor and one that meets it at `floor_t`.
-struct PrimaryMemo {
-  double clear_upto = -std::numeric_limits<double>::infinity();  ///< no floor hit for t1 <= clear_upto
-  double hit_from = std::numeric_limits<double>::infinity();     ///< the floor hit below for t1 >= hit_from
-  SurfaceHit objects;  ///< boxes and spheres, nearest in [0, t_max)
-  float floor_t = std::numeric_limits<float>::infinity();
-  std::array<float, 3> floor_normal{0.0f, 0.0f, 1.0f};
-  std::int8_t level = -1;  ///< the walks' first level; -1: no walk known
-  bool movers = false;     ///< the ray met a moving object's bounds when this was kept: not to be reused
-};
-
 class SceneObjects {
  public:
   /// Blocks of each mipmap level per side of a block of the next: level k's blocks are
@@ -72,13 +58,10 @@ class SceneObjects {
   /// normal may differ from intersect's in the last bits of the double arithmetic (the walk enters
   /// the hit's cell from another start).
   SurfaceHit intersect_secondary(const SceneRay& ray, double t_min, double t_max) const noexcept;
-  /// intersect(ray, 0, t_max, floor_z_lo), bit for bit, from what `memo` knows when it covers
-  /// floor_z_lo, else with a walk that `memo` then remembers (`reused` tells which). `refill`
-  /// starts `memo` afresh; without it, `memo` must hold earlier calls' for the same ray and t_max (a
-  /// still camera: most frames then skip the walks). A ray that meets a moving object's bounds, now
-  /// or when `memo` was kept, starts it afresh too.
-  SurfaceHit intersect_primary(const SceneRay& ray, float t_max, double floor_z_lo, PrimaryMemo& memo, bool refill,
-                               bool& reused) const noexcept;
+  /// Whether any box or sphere moves (Renderer::move_box, move_sphere).
+  bool has_movers() const noexcept { return !movers_.empty(); }
+  /// Whether the ray meets a moving object's present bounds with t in [0, t_max).
+  bool meets_movers(const SceneRay& ray, double t_max) const noexcept;
   /// The nearest box or sphere hit with t in [t_min, t_max) (the floor left out).
   SurfaceHit intersect_objects(const SceneRay& ray, double t_min, double t_max) const noexcept {
     return hit_objects(ray, t_min, t_max);
@@ -124,10 +107,6 @@ class SceneObjects {
   /// A mover for an object at `center` reaching `reach` from its centre in any orientation (index
   /// into movers_), or -1 when motion is 0. Its present bounds start as everywhere it may go.
   std::int32_t add_mover(const std::array<float, 3>& center, float motion, double reach);
-  /// Whether the ray meets a moving object's present bounds with t in [0, t_max).
-  bool meets_movers(const SceneRay& ray, double t_max) const noexcept;
-  SurfaceHit intersect_memo(const SceneRay& ray, float t_max, double floor_z_lo, PrimaryMemo& memo, bool refill,
-                            bool& reused) const noexcept;
   /// intersect (skip_clear false) or intersect_secondary (true).
   SurfaceHit nearest(const SceneRay& ray, double t_min, double t_max, double floor_z_lo, bool skip_clear) const noexcept;
   /// Nearest box or sphere hit in [t_min, t_max) (with `any`: the first found).
@@ -145,17 +124,6 @@ class SceneObjects {
   FloorSpan floor_span(const SceneRay& ray, double t_min, double t_max, double z_lo) const noexcept;
   /// The first level for a walk from t0 to t1 along the ray.
   int first_level(const SceneRay& ray, double t0, double t1) const noexcept;
-  /// The walk over `span`: the nearest floor hit `t` before t_max (t_max when none) with its normal
-  /// when `normal` is not null, the start and end of the segment of the cell it was found in, and
-  /// whether every block on the way to that cell passes its skip test with the cell's end as its own.
-  struct FloorWalk {
-    double t, cell_start, cell_end;
-    bool blocks_pass;
-  };
-  FloorWalk walk_floor(const SceneRay& ray, const FloorSpan& span, double t_max, std::array<float, 3>* normal) const noexcept;
-  /// How far a walk from `span`'s start and first level can go: to where the ray leaves the floor's
-  /// height range or t_max, or the end beyond which the first level would change.
-  double farthest_end(const SceneRay& ray, const FloorSpan& span, double t_max) const noexcept;
   /// Nearest floor hit in [t_min, t_max) where the ray is at or above z_lo (t_max when none); writes
   /// the normal on a hit when `normal` is not null. With `skip_clear` the walk starts at clear_until.
   double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo, std::array<float, 3>* normal,

@@ -41,6 +41,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -115,6 +116,10 @@ struct RenderScene {
   /// (a_g(lambda) = a_g(440) e^{-0.014 (lambda - 440)}, colour.hpp water_absorption), >= 0.
   float water_extra_absorption = 0.0f;
   float sea_dominant_wavelength_nm = 490.0f;  ///< I_sea's dominant wavelength (the paper's table), in [380, 780]
+  /// m: |height| of every frame's sea surface, the capillary noise aside, stays within this (inf:
+  /// unknown). A frame within it cuts the primary rays' floor walks at a height that does not move
+  /// with the waves, so that a still camera's primary hits are found once per shot (docs/rendering.md 2.4).
+  float sea_height_bound = std::numeric_limits<float>::infinity();
 };
 
 /// Accuracy knobs (docs/design.md 5: explicit).
@@ -154,7 +159,7 @@ class Renderer {
  public:
   /// Bytes of primary hits kept per pixel and sample for a still camera, and the most kept: an image
   /// x samples over it keeps none and intersects every frame.
-  static constexpr std::size_t kept_hit_bytes = 64, max_kept_bytes = std::size_t(256) << 20;
+  static constexpr std::size_t kept_hit_bytes = 28, max_kept_bytes = std::size_t(256) << 20;
   /// The reflected sea ray's minimum z after clamping (see the file comment).
   static constexpr float min_reflected_dz = 0.01f;
   /// m: refracted and under-water rays that meet nothing within this see I_sea.
