@@ -187,22 +187,24 @@ TEST(Renderer, NoStateCarriedBetweenFrames) {
 TEST(Renderer, StillCameraReusesPrimaryHitsAndChangesNoByte) {
   // A beach rising out of the sea ahead: primary rays meet the floor above the sea's slab, whose
   // bottom would move with the waves. With the scene's bound of the sea's height the cut stays put and
-  // a still camera keeps every primary hit from frame to frame; without it the cut follows each frame's
-  // slab and the hits are found again whenever it moves. Either way every frame has the bytes of a
-  // fresh renderer's, also after the camera moved and came back.
+  // a still camera keeps every primary hit from frame to frame; without it, or with a bound the frame
+  // exceeds, the cut follows each frame's slab and the hits are found again whenever it moves. Either
+  // way every frame has the bytes of a fresh renderer's, also after the camera moved and came back.
   RenderScene scene = test_scene();
   for (std::uint32_t j = 0; j < scene.floor.ny; ++j) {
     for (std::uint32_t i = 0; i < scene.floor.nx; ++i) {
       scene.floor.z[j * scene.floor.nx + i] = -3.0f + 0.06f * float(j) * 5.0f - 0.8f * std::sin(0.7f * float(i));
     }
   }
-  RenderScene bounded = scene;
+  RenderScene bounded = scene, exceeded = scene;
   bounded.sea_height_bound = 0.4f;  // two_trains' amplitudes
+  exceeded.sea_height_bound = 0.1f;
   RenderQuality q;
   q.samples_per_pixel = 4;
   const Camera cam = default_cam();
   const Camera other = make_cam({1.0f, 0.0f, 3.0f}, {0.0f, 50.0f, 0.0f});
   Renderer kept_bounded = make_renderer(bounded, W, H, q, 2), kept_unbounded = make_renderer(scene, W, H, q, 2);
+  Renderer kept_exceeded = make_renderer(exceeded, W, H, q, 2);
   Framebuffer kept(W, H), alone(W, H);
   const double times[] = {1.0, 1.1, 1.1, 1.2, 4.0, 1.15, 2.5, 2.6, 0.3};
   for (std::size_t frame = 0; frame < std::size(times); ++frame) {
@@ -210,20 +212,20 @@ TEST(Renderer, StillCameraReusesPrimaryHitsAndChangesNoByte) {
     const houle::SurfaceFrame s = make_surface(t, 0.0f, 0.0f, frame == 4);  // a flat sea: its slab moves up
     const houle::CapillaryFrame n = make_noise(t);
     const Camera& c = frame == 6 ? other : cam;
-    for (const RenderScene* sc : {&bounded, &scene}) {
-      Renderer& used = sc == &bounded ? kept_bounded : kept_unbounded;
+    for (const RenderScene* sc : {&bounded, &scene, &exceeded}) {
+      Renderer& used = sc == &bounded ? kept_bounded : sc == &scene ? kept_unbounded : kept_exceeded;
       used.render(s, &n, nullptr, c, kept);
       Renderer fresh = make_renderer(*sc, W, H, q, 1);
       fresh.render(s, &n, nullptr, c, alone);
-      EXPECT_TRUE(same_bytes(kept, alone)) << "t " << t << (sc == &bounded ? " bounded" : " unbounded");
+      EXPECT_TRUE(same_bytes(kept, alone)) << "t " << t << " bound " << sc->sea_height_bound;
     }
     const houle::RenderCounters& b = kept_bounded.last_counters();
-    const houle::RenderCounters& u = kept_unbounded.last_counters();
     const std::uint64_t samples = b.sea + b.object + b.sky;
     const bool moved = frame == 0 || frame == 6 || frame == 7;  // the first frame, the camera away and back
     EXPECT_EQ(b.reused, moved ? 0u : samples) << "t " << t;
-    // Unbounded, only the repeated frame has the cut of the frame before.
-    EXPECT_EQ(u.reused, frame == 2 ? samples : 0u) << "t " << t;
+    // Unbounded or exceeded, only the repeated frame has the cut of the frame before.
+    EXPECT_EQ(kept_unbounded.last_counters().reused, frame == 2 ? samples : 0u) << "t " << t;
+    EXPECT_EQ(kept_exceeded.last_counters().reused, frame == 2 ? samples : 0u) << "t " << t;
   }
 }
 
