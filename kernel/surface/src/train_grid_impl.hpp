@@ -20,77 +20,121 @@ struct TrainGridLanes {
   simd::vfloat<A> b_re_x, b_re_y, b_im_x, b_im_y;  ///< dB/dx, dB/dy (0 along an axis clamped to the grid)
 };
 
-/// One train's fields at the points. Off the grid the nearest point of its edge goes on along its wave
-/// vector: phi grows by k . (p - edge point), the other fields stay its own (docs/physics.md 2.8), so the
-/// sea beyond the domain continues the sea at its edge. Without a grid the train is its far field,
-/// phi = far_kx x + far_ky y (the caller subtracts the far field's constant, which differs between
-/// the probe and the frame).
+/// Where one train's grid is read at the points, and the reads. Off the grid the nearest point of its
+/// edge goes on along its wave vector: phi grows by k . (p - edge point), the other fields stay its own
+/// (docs/physics.md 2.8), so the sea beyond the domain continues the sea at its edge. Without a grid the
+/// train is its far field, phi = far_kx x + far_ky y (the caller subtracts the far field's constant,
+/// which differs between the probe and the frame). The fields come in two parts, so that a train the
+/// footprint fades out everywhere reads only the first.
 template <class A>
-inline TrainGridLanes<A> train_grid_lanes(const TrainGrid& g, simd::vfloat<A> x, simd::vfloat<A> y) {
+class TrainGridTap {
+ public:
   using V = simd::vfloat<A>;
-  const V zero(0.0f);
-  TrainGridLanes<A> r{x * g.far_kx + y * g.far_ky, V(g.far_amplitude), zero, V(g.far_kx), V(g.far_ky),
-                      V(g.far_fold), V(g.far_lean), zero, zero, zero, zero};
-  if (g.nx < 2) return r;
-  const float inv_cell = 1.0f / g.cell, last_x = float(g.nx - 1), last_y = float(g.ny - 1);
-  const V gx = (x - g.origin_x) * inv_cell, gy = (y - g.origin_y) * inv_cell;
-  // Clamped to the grid; NaN reads node 0 (its lanes are NaN by the phase below).
-  const auto in_x = (gx >= 0.0f) & (gx <= last_x), in_y = (gy >= 0.0f) & (gy <= last_y);
-  const V cx = simd::select(in_x, gx, simd::select(gx > last_x, V(last_x), zero));
-  const V cy = simd::select(in_y, gy, simd::select(gy > last_y, V(last_y), zero));
-  const V i = simd::min(simd::floor_exact(cx), V(last_x - 1.0f)), j = simd::min(simd::floor_exact(cy), V(last_y - 1.0f));
-  const V u = cx - i, v = cy - j;
-  const simd::vint<A> n00 = simd::to_int_exact(j) * simd::vint<A>(std::int32_t(g.nx)) + simd::to_int_exact(i);
-  const std::size_t row = g.nx;
+
+  TrainGridTap(const TrainGrid& g, V x, V y) : g_(g), x_(x), y_(y) {
+    if (g.nx < 2) return;
+    const V zero(0.0f);
+    inv_cell_ = 1.0f / g.cell;
+    const float last_x = float(g.nx - 1), last_y = float(g.ny - 1);
+    const V gx = (x - g.origin_x) * inv_cell_, gy = (y - g.origin_y) * inv_cell_;
+    // Clamped to the grid; NaN reads node 0 (its lanes are NaN by the phase below).
+    in_x_ = (gx >= 0.0f) & (gx <= last_x);
+    in_y_ = (gy >= 0.0f) & (gy <= last_y);
+    const V cx = simd::select(in_x_, gx, simd::select(gx > last_x, V(last_x), zero));
+    const V cy = simd::select(in_y_, gy, simd::select(gy > last_y, V(last_y), zero));
+    const V i = simd::min(simd::floor_exact(cx), V(last_x - 1.0f)), j = simd::min(simd::floor_exact(cy), V(last_y - 1.0f));
+    u_ = cx - i;
+    v_ = cy - j;
+    n00_ = simd::to_int_exact(j) * simd::vint<A>(std::int32_t(g.nx)) + simd::to_int_exact(i);
+    // Off the grid along an axis, the offset from the edge point along it (exactly 0 on the grid).
+    off_x_ = simd::select(in_x_, zero, (gx - cx) * g.cell);
+    off_y_ = simd::select(in_y_, zero, (gy - cy) * g.cell);
+    // Along a row of the surface frame, a batch's cells often lie within a few nodes of each other:
+    // then each corner comes from a window of the field (two loads and a permute), not a gather
+    // (docs/design.md 10). The same values, so the same bits as the scalar path.
+    if constexpr (simd::window_floats<A>() > 0) {
+      std::int32_t lo, hi;
+      simd::lane_range(n00_, lo, hi);
+      const std::int64_t nodes = std::int64_t(g.nx) * g.ny;
+      if (hi - lo + 1 < simd::window_floats<A>() && std::int64_t(lo) + std::int64_t(g.nx) + simd::window_floats<A>() <= nodes) {
+        window_ = lo;
+      }
+    }
+  }
+
+  /// k, B and B's gradient: what the footprint's weight and the slope variance it drops need.
+  void wave(TrainGridLanes<A>& r) const {
+    const V zero(0.0f);
+    if (g_.nx < 2) {
+      r.kx = V(g_.far_kx), r.ky = V(g_.far_ky), r.b_re = V(g_.far_amplitude), r.b_im = zero;
+      r.b_re_x = r.b_re_y = r.b_im_x = r.b_im_y = zero;
+      return;
+    }
+    r.kx = field(g_.kx);
+    r.ky = field(g_.ky);
+    with_gradient(g_.b_re, r.b_re, r.b_re_x, r.b_re_y);
+    with_gradient(g_.b_im, r.b_im, r.b_im_x, r.b_im_y);
+  }
+  /// phi, fold and lean (after wave(r): phi goes on along r's k off the grid).
+  void shape(TrainGridLanes<A>& r) const {
+    if (g_.nx < 2) {
+      r.phi = x_ * g_.far_kx + y_ * g_.far_ky, r.fold = V(g_.far_fold), r.lean = V(g_.far_lean);
+      return;
+    }
+    r.fold = field(g_.fold);
+    r.lean = field(g_.lean);
+    r.phi = field(g_.phi) + (r.kx * off_x_ + r.ky * off_y_);
+  }
+
+ private:
   struct Corners {
     V q00, q10, q01, q11;
   };
-  // Along a row of the surface frame, a batch's cells often lie within a few nodes of each other:
-  // then each corner comes from a window of the field (two loads and a permute), not a gather
-  // (docs/design.md 10). The same values, so the same bits as the scalar path.
-  std::int32_t window = -1;  // the first node of the window, or -1: gather
-  if constexpr (simd::window_floats<A>() > 0) {
-    std::int32_t lo, hi;
-    simd::lane_range(n00, lo, hi);
-    const std::int64_t nodes = std::int64_t(g.nx) * g.ny;
-    if (hi - lo + 1 < simd::window_floats<A>() && std::int64_t(lo) + std::int64_t(row) + simd::window_floats<A>() <= nodes) {
-      window = lo;
-    }
-  }
-  const auto corners = [&](const float* q) {
+  Corners corners(const float* q) const {
+    const std::size_t row = g_.nx;
     if constexpr (simd::window_floats<A>() > 0) {
-      if (window >= 0) {
-        const simd::vint<A> o = n00 - simd::vint<A>(window), o1 = o + simd::vint<A>(1);
-        const float *w0 = q + window, *w1 = w0 + row;
-        return Corners{simd::gather_window(w0, o), simd::gather_window(w0, o1), simd::gather_window(w1, o),
-                       simd::gather_window(w1, o1)};
+      if (window_ >= 0) {
+        const simd::vint<A> o = n00_ - simd::vint<A>(window_), o1 = o + simd::vint<A>(1);
+        const float *w0 = q + window_, *w1 = w0 + row;
+        return {simd::gather_window(w0, o), simd::gather_window(w0, o1), simd::gather_window(w1, o),
+                simd::gather_window(w1, o1)};
       }
     }
-    return Corners{simd::gather(q, n00), simd::gather(q + 1, n00), simd::gather(q + row, n00), simd::gather(q + row + 1, n00)};
-  };
-  const auto lerp2 = [&](const Corners& c) {
-    const V bottom = c.q00 + (c.q10 - c.q00) * u, top = c.q01 + (c.q11 - c.q01) * u;
-    return bottom + (top - bottom) * v;
-  };
-  const auto field = [&](const float* q) { return lerp2(corners(q)); };
-  r.kx = field(g.kx);
-  r.ky = field(g.ky);
-  r.fold = field(g.fold);
-  r.lean = field(g.lean);
-  // Off the grid along an axis, the offset from the edge point along it (exactly 0 on the grid).
-  const V off_x = simd::select(in_x, zero, (gx - cx) * g.cell), off_y = simd::select(in_y, zero, (gy - cy) * g.cell);
-  r.phi = field(g.phi) + (r.kx * off_x + r.ky * off_y);
-  // B and its derivatives in the cell (per metre); B is constant off the grid along a clamped axis.
-  const auto with_gradient = [&](const float* q, V& value, V& d_dx, V& d_dy) {
+    return {simd::gather(q, n00_), simd::gather(q + 1, n00_), simd::gather(q + row, n00_), simd::gather(q + row + 1, n00_)};
+  }
+  V lerp2(const Corners& c) const {
+    const V bottom = c.q00 + (c.q10 - c.q00) * u_, top = c.q01 + (c.q11 - c.q01) * u_;
+    return bottom + (top - bottom) * v_;
+  }
+  V field(const float* q) const { return lerp2(corners(q)); }
+  /// B and its derivatives in the cell (per metre); B is constant off the grid along a clamped axis.
+  void with_gradient(const float* q, V& value, V& d_dx, V& d_dy) const {
+    const V zero(0.0f);
     const Corners c = corners(q);
     value = lerp2(c);
-    const V dx = ((c.q10 - c.q00) + ((c.q11 - c.q01) - (c.q10 - c.q00)) * v) * inv_cell;
-    const V dy = ((c.q01 - c.q00) + ((c.q11 - c.q10) - (c.q01 - c.q00)) * u) * inv_cell;
-    d_dx = simd::select(in_x, dx, zero);
-    d_dy = simd::select(in_y, dy, zero);
-  };
-  with_gradient(g.b_re, r.b_re, r.b_re_x, r.b_re_y);
-  with_gradient(g.b_im, r.b_im, r.b_im_x, r.b_im_y);
+    const V dx = ((c.q10 - c.q00) + ((c.q11 - c.q01) - (c.q10 - c.q00)) * v_) * inv_cell_;
+    const V dy = ((c.q01 - c.q00) + ((c.q11 - c.q10) - (c.q01 - c.q00)) * u_) * inv_cell_;
+    d_dx = simd::select(in_x_, dx, zero);
+    d_dy = simd::select(in_y_, dy, zero);
+  }
+
+  const TrainGrid& g_;
+  V x_, y_;
+  // (Not braces: a batch's braces are an initializer list.)
+  V u_ = V(0.0f), v_ = V(0.0f), off_x_ = V(0.0f), off_y_ = V(0.0f);
+  simd::vint<A> n00_ = simd::vint<A>(0);
+  simd::vmask<A> in_x_ = simd::vmask<A>(false), in_y_ = simd::vmask<A>(false);
+  float inv_cell_ = 1.0f;
+  std::int32_t window_ = -1;  // the first node of the window, or -1: gather
+};
+
+/// One train's fields at the points (TrainGridTap).
+template <class A>
+inline TrainGridLanes<A> train_grid_lanes(const TrainGrid& g, simd::vfloat<A> x, simd::vfloat<A> y) {
+  const TrainGridTap<A> tap(g, x, y);
+  TrainGridLanes<A> r;
+  tap.wave(r);
+  tap.shape(r);
   return r;
 }
 
@@ -145,7 +189,9 @@ inline HeightFieldPoint<A> train_grid_point(const TrainGridFrame& f, simd::vfloa
   using V = simd::vfloat<A>;
   HeightFieldPoint<A> p{V(0.0f), V(0.0f), V(0.0f)};
   for (std::uint32_t t = 0; t < f.count; ++t) {
-    const TrainGridLanes<A> l = train_grid_lanes<A>(f.trains[t], x, y);
+    const TrainGridTap<A> tap(f.trains[t], x, y);
+    TrainGridLanes<A> l;
+    tap.wave(l);
     V weight(1.0f);
     if constexpr (Filtered) {
       weight = footprint_weight<A>(*footprint, l.kx, l.ky);
@@ -153,6 +199,7 @@ inline HeightFieldPoint<A> train_grid_point(const TrainGridFrame& f, simd::vfloa
       *variance = *variance + (V(1.0f) - weight * weight) * (b2 * k2 * 0.25f);
       if (!simd::any(weight > 0.0f)) continue;  // faded everywhere here: nothing to add
     }
+    tap.shape(l);
     const V theta = l.phi - V(f.trains[t].nx < 2 ? f.far_phase[t] : f.time_phase[t]);
     V s, c;
     simd::sincos(theta, s, c);
