@@ -997,9 +997,11 @@ TEST(SceneObjects, PlanarFloorMatchesThePlaneInsideAndBeyondTheGrid) {
   EXPECT_GT(checked, 50);
   // Beyond the grid's east edge the floor is the edge column's z: 0.1 * 20 - 0.05 y - 3.
   EXPECT_NEAR(o.floor_height(500.0, 0.0), -1.0, 1e-6);
-  // A ray that stays above the highest sample misses; the z clip above the floor misses too.
+  // A ray that stays above the highest sample misses; one that ends at z = 0, above the floor, misses too.
   EXPECT_EQ(o.intersect(ray_to({0.0, 0.0, 10.0}, {1.0, 0.0, 0.0}), 0.0, 1e5).kind, HitKind::none);
-  EXPECT_EQ(o.intersect(ray_to({0.0, 0.0, 4.0}, {0.0, 0.3, -1.0}), 0.0, 1e5, 0.0).kind, HitKind::none);
+  const SceneRay down = ray_to({0.0, 0.0, 4.0}, {0.0, 0.3, -1.0});
+  EXPECT_EQ(o.intersect(down, 0.0, (0.0 - down.oz) / down.dz).kind, HitKind::none);
+  EXPECT_EQ(o.intersect(down, 0.0, 1e5).kind, HitKind::floor);
   EXPECT_FALSE(o.occluded(ray_to({0.0, 0.0, -2.0}, {0.0, 0.0, 1.0}), 0.0, 1e5));
   EXPECT_TRUE(o.occluded(ray_to({0.0, 0.0, -2.0}, {0.0, 0.0, -1.0}), 0.0, 1e5));
 }

@@ -355,16 +355,15 @@ struct SceneObjects::FloorQuery {
   std::array<float, 3>* normal;  // written on a hit when not null
 };
 
-SceneObjects::FloorSpan SceneObjects::floor_span(const SceneRay& r, double t_min, double t_max, double z_lo) const noexcept {
+SceneObjects::FloorSpan SceneObjects::floor_span(const SceneRay& r, double t_min, double t_max) const noexcept {
   constexpr FloorSpan none{0.0, 0.0, 0, false};
   if (nx_ == 0) return none;
-  // Only where the ray is inside the floor's height range (and above z_lo) can it meet the floor. The
+  // Only where the ray is inside the floor's height range can it meet the floor. The
   // range reaches a little below the lowest ground: a ray meeting ground that lies at that height (the
   // flat extension beyond the deepest edge) meets it at the span's very end, where rounding would
   // keep or drop the root from one ray to the next.
   constexpr double below = 1e-3;  // m
-  const double lo = std::max(z_min_ - below, z_lo), hi = z_max_;
-  if (!(lo <= hi)) return none;
+  const double lo = z_min_ - below, hi = z_max_;
   double t0 = t_min, t1 = std::min(t_max, max_walk_distance);
   if (r.dz > 0.0) {
     t0 = std::max(t0, (lo - r.oz) / r.dz);
@@ -389,9 +388,9 @@ int SceneObjects::first_level(const SceneRay& r, double t0, double t1) const noe
   return level;
 }
 
-double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, double z_lo, std::array<float, 3>* normal,
+double SceneObjects::floor_hit(const SceneRay& r, double t_min, double t_max, std::array<float, 3>* normal,
                                bool skip_clear) const noexcept {
-  FloorSpan span = floor_span(r, t_min, t_max, z_lo);
+  FloorSpan span = floor_span(r, t_min, t_max);
   if (!span.walk) return t_max;
   // Rays that rise (reflected rays, shadows) start low over the ground they clear; rays that descend
   // (refracted) meet the floor within a few cells, where the jumps would cost more than they skip.
@@ -581,22 +580,21 @@ SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_m
   return hit;
 }
 
-SurfaceHit SceneObjects::nearest(const SceneRay& r, double t_min, double t_max, double floor_z_lo,
-                                 bool skip_clear) const noexcept {
+SurfaceHit SceneObjects::nearest(const SceneRay& r, double t_min, double t_max, bool skip_clear) const noexcept {
   SurfaceHit hit = hit_objects(r, t_min, t_max);
   const double best = hit.kind == HitKind::none ? t_max : double(hit.t);
   std::array<float, 3> n{};
-  const double tf = floor_hit(r, t_min, best, floor_z_lo, &n, skip_clear);
+  const double tf = floor_hit(r, t_min, best, &n, skip_clear);
   if (tf < best) hit = {float(tf), HitKind::floor, 0, n};
   return hit;
 }
 
-SurfaceHit SceneObjects::intersect(const SceneRay& r, double t_min, double t_max, double floor_z_lo) const noexcept {
-  return nearest(r, t_min, t_max, floor_z_lo, false);
+SurfaceHit SceneObjects::intersect(const SceneRay& r, double t_min, double t_max) const noexcept {
+  return nearest(r, t_min, t_max, false);
 }
 
 SurfaceHit SceneObjects::intersect_secondary(const SceneRay& r, double t_min, double t_max) const noexcept {
-  return nearest(r, t_min, t_max, -inf, true);
+  return nearest(r, t_min, t_max, true);
 }
 
 bool SceneObjects::meets_movers(const SceneRay& r, double t_max) const noexcept {
@@ -675,7 +673,7 @@ void SceneObjects::move_sphere(std::size_t k, const std::array<float, 3>& center
 bool SceneObjects::occluded(const SceneRay& r, double t_min, double t_max, bool floor) const noexcept {
   // The objects are cheap next to the floor walk: test them first.
   if (hit_objects(r, t_min, t_max, true).kind != HitKind::none) return true;
-  return floor && floor_hit(r, t_min, t_max, -inf, nullptr, true) < t_max;
+  return floor && floor_hit(r, t_min, t_max, nullptr, true) < t_max;
 }
 
 LinearRgb SceneObjects::albedo(const SurfaceHit& hit) const noexcept {

@@ -48,10 +48,8 @@ class SceneObjects {
   /// Validates the scene's geometry (field names as in RenderScene) and precomputes the floor bounds.
   static Expected<SceneObjects> build(const RenderScene& scene);
 
-  /// The nearest hit with t in [t_min, t_max). The floor is searched only where the ray is at or
-  /// above floor_z_lo (m): a primary ray below the sea's slab has crossed the sea already.
-  SurfaceHit intersect(const SceneRay& ray, double t_min, double t_max,
-                       double floor_z_lo = -std::numeric_limits<double>::infinity()) const noexcept;
+  /// The nearest hit with t in [t_min, t_max) (the reference walk: the floor from the ray's start).
+  SurfaceHit intersect(const SceneRay& ray, double t_min, double t_max) const noexcept;
   /// The nearest hit with t in [t_min, t_max) of a secondary ray (reflected, refracted): intersect's
   /// hit, found by a floor walk that starts where the floor's clearance map (the highest ground
   /// around each cell) no longer shows the ray above all of it. The hit is the same one; its t and
@@ -108,26 +106,25 @@ class SceneObjects {
   /// into movers_), or -1 when motion is 0. Its present bounds start as everywhere it may go.
   std::int32_t add_mover(const std::array<float, 3>& center, float motion, double reach);
   /// intersect (skip_clear false) or intersect_secondary (true).
-  SurfaceHit nearest(const SceneRay& ray, double t_min, double t_max, double floor_z_lo, bool skip_clear) const noexcept;
+  SurfaceHit nearest(const SceneRay& ray, double t_min, double t_max, bool skip_clear) const noexcept;
   /// Nearest box or sphere hit in [t_min, t_max) (with `any`: the first found).
   SurfaceHit hit_objects(const SceneRay& ray, double t_min, double t_max, bool any = false) const noexcept;
   bool hit_box(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
   bool hit_sphere(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
   void build_bvh();
   /// Where a floor query walks: t0 .. t1 along the ray from the first level `level`; `walk` false
-  /// when the ray cannot meet the floor within [t_min, t_max) above z_lo.
+  /// when the ray cannot meet the floor within [t_min, t_max).
   struct FloorSpan {
     double t0, t1;
     int level;
     bool walk;
   };
-  FloorSpan floor_span(const SceneRay& ray, double t_min, double t_max, double z_lo) const noexcept;
+  FloorSpan floor_span(const SceneRay& ray, double t_min, double t_max) const noexcept;
   /// The first level for a walk from t0 to t1 along the ray.
   int first_level(const SceneRay& ray, double t0, double t1) const noexcept;
-  /// Nearest floor hit in [t_min, t_max) where the ray is at or above z_lo (t_max when none); writes
-  /// the normal on a hit when `normal` is not null. With `skip_clear` the walk starts at clear_until.
-  double floor_hit(const SceneRay& ray, double t_min, double t_max, double z_lo, std::array<float, 3>* normal,
-                   bool skip_clear) const noexcept;
+  /// Nearest floor hit in [t_min, t_max) (t_max when none); writes the normal on a hit when `normal`
+  /// is not null. With `skip_clear` the walk starts at clear_until.
+  double floor_hit(const SceneRay& ray, double t_min, double t_max, std::array<float, 3>* normal, bool skip_clear) const noexcept;
   /// For a ray that does not descend: a t in [t0, t1] before which it provably stays above the floor
   /// (t1: above it all along), from the clearance map in at most a few jumps of clear_cells cells.
   double clear_until(const SceneRay& ray, double t0, double t1) const noexcept;
