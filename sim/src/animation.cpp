@@ -41,7 +41,7 @@ Quality quality_preset(QualityPreset q) noexcept {
   switch (q) {
     case QualityPreset::draft:
       r.render.march.step_fraction = 0.5f;
-      r.render.march.refine_iterations = 2;
+      r.render.march.refine_iterations = 0;
       r.render.spectral_absorption = false;
       r.render.shadows = false;
       r.surface.levels = 7;
@@ -53,8 +53,9 @@ Quality quality_preset(QualityPreset q) noexcept {
       break;  // the defaults of every knob
     case QualityPreset::film:
       r.render.march.step_fraction = 0.1f;
-      // refine_iterations stays at 4: the hit distance is at float resolution by then, more
-      // iterations only cost evaluations (docs/accuracy.md, "Root refinement").
+      // The hit distance is at float resolution after 4 iterations; more only cost evaluations
+      // (docs/accuracy.md, "Root refinement").
+      r.render.march.refine_iterations = 4;
       r.render.samples_per_pixel = 8;
       r.surface.levels = 8;
       r.surface.cells = 512;
