@@ -126,6 +126,50 @@ TEST(FloorHits, MeetsTheFloorWhereSceneObjectsWalkDoes) {
   }
 }
 
+TEST(FloorHits, AnIslandBoundsTheWalkOfRaysUpFromTheSea) {
+  // Rays up from a sea 10 m over a flat bed, at 1 to 6 degrees, leave the floor's height range (up to
+  // an island's top, 3 m up) only after up to 170 cells: without the height bands half would be left
+  // to SceneObjects. The band below a ray's lowest point bounds its walk to the island's box: none is
+  // left, and every one meets the floor where SceneObjects' walk does (stated tolerance as above),
+  // hundreds of them on the island, some grazing its sides.
+  houle::RenderScene s;
+  s.floor.origin_x = -100.0f, s.floor.origin_y = -100.0f, s.floor.cell = 1.0f, s.floor.nx = 201, s.floor.ny = 201;
+  for (std::uint32_t j = 0; j < s.floor.ny; ++j) {
+    for (std::uint32_t i = 0; i < s.floor.nx; ++i) {
+      const double x = -100.0 + i, y = -100.0 + j;
+      s.floor.z.push_back(float(-10.0 + 13.0 * std::exp(-(x * x + y * y) / 200.0)));
+    }
+  }
+  const SceneObjects o = SceneObjects::build(s).value();
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  FloorTestRays r;
+  for (int k = 0; k < 4000; ++k) {
+    const float x = -60.0f + 120.0f * u(rng), y = -60.0f + 120.0f * u(rng);
+    // Half of them towards the island, within 20 m of its centre either side.
+    const float to = std::atan2(-y, -x) + (20.0f / std::hypot(x, y)) * (2.0f * u(rng) - 1.0f);
+    const float az = k % 2 == 0 ? to : 6.2831853f * u(rng), el = (1.0f + 5.0f * u(rng)) * 0.0174533f;
+    r.add(x, y, u(rng) - 0.5f, std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el), 1e5f);
+  }
+  const WaterOut h = hits_of(o, r);
+  int met = 0, long_walks = 0;
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    // The cells from the start to the top of the height range (3 m), at most.
+    long_walks += (3.0f - r.oz[k]) / r.dz[k] * (std::fabs(r.dx[k]) + std::fabs(r.dy[k])) > float(houle::detail::max_floor_steps);
+    ASSERT_EQ(h.left[k], 0.0f) << k;
+    const houle::detail::SurfaceHit want = o.intersect_secondary(r.ray(k), 0.0, double(r.t_max[k]));
+    if (want.kind == houle::detail::HitKind::none) {
+      EXPECT_EQ(h.t[k], no_hit) << k;
+      continue;
+    }
+    ++met;
+    ASSERT_LT(h.t[k], no_hit) << k;
+    EXPECT_NEAR(h.t[k], want.t, 4e-6f * (1.0f + want.t)) << k;
+  }
+  EXPECT_GT(long_walks, 1500);
+  EXPECT_GT(met, 300);
+}
+
 TEST(FloorHits, LeavesWhatItCannotWalkToSceneObjects) {
   const SceneObjects o = bumpy_floor();
   FloorTestRays r;

@@ -8,10 +8,22 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "houle/runtime/isa.hpp"
 
 namespace houle::detail {
+
+/// Where the cells of a height band are (FloorGridView::bands): every cell whose highest corner is at
+/// or above z lies in [x0, x1] x [y0, y1] (m), widened by a cell for the walk's rounding, and infinite
+/// on a side where such a cell is on the grid's border (beyond it the floor repeats that cell). A ray
+/// whose lowest point is at or above z can meet no cell outside.
+struct FloorBand {
+  float z = std::numeric_limits<float>::infinity();
+  float x0 = -std::numeric_limits<float>::infinity(), x1 = std::numeric_limits<float>::infinity();
+  float y0 = -std::numeric_limits<float>::infinity(), y1 = std::numeric_limits<float>::infinity();
+};
+inline constexpr int floor_bands = 16;
 
 /// The floor's height grid as the kernel reads it (SceneObjects::floor_grid), with a border: the
 /// floor beyond the grid repeats its edge samples, so every cell beyond it has the heights of the
@@ -23,6 +35,10 @@ struct FloorGridView {
   std::int32_t nx = 0, ny = 0;      ///< samples per side; 0: no grid (no floor, or too_large)
   float z_lo = 0.0f, z_hi = 0.0f;   ///< m: a little below the lowest sample, the highest sample
   bool too_large = false;           ///< a floor beyond the kernel's 32-bit indices: every ray is left
+  /// Bands at heights rising with the index, from the lowest cell's maximum to the highest's (each
+  /// band's cells hold the next one's): a ray over the sea bed walks only the box of the band below
+  /// its lowest point (a ray up from the sea, only where the floor rises near the surface).
+  FloorBand bands[floor_bands] = {};
 };
 
 /// A box holding every box and sphere of the scene, wherever the moving ones may go

@@ -39,8 +39,32 @@ inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid,
   const M moving = valid & (dz != zero);
   const V inv_dz = simd::div(one, simd::select(moving, dz, one));
   const V t_lo = (V(f.z_lo) - oz) * inv_dz, t_hi = (V(f.z_hi) - oz) * inv_dz;
-  const V t0 = max_as_std(zero, simd::select(dz < zero, t_hi, t_lo));
-  const V t1 = min_as_std(t_max, simd::select(dz < zero, t_lo, t_hi));
+  V t0 = max_as_std(zero, simd::select(dz < zero, t_hi, t_lo));
+  V t1 = min_as_std(t_max, simd::select(dz < zero, t_lo, t_hi));
+  const V inv_dx = simd::div(one, simd::select(dx == zero, one, dx)), inv_dy = simd::div(one, simd::select(dy == zero, one, dy));
+  {
+    // The ray meets no cell lower than its lowest point on [t0, t1]: it walks only the box of the
+    // highest band at or below that point (FloorBand).
+    const V z_low = min_as_std(oz + t0 * dz, oz + t1 * dz);
+    V x0(-inf), x1(inf), y0(-inf), y1(inf);
+    for (int k = 1; k < floor_bands; ++k) {
+      const FloorBand& b = f.bands[k];
+      const M in = z_low >= V(b.z);
+      x0 = simd::select(in, V(b.x0), x0);
+      x1 = simd::select(in, V(b.x1), x1);
+      y0 = simd::select(in, V(b.y0), y0);
+      y1 = simd::select(in, V(b.y1), y1);
+    }
+    // Along an axis the ray does not move on, all of it or none (the box's infinite sides give
+    // infinite distances, never NaN, as the origin is finite where it is walked).
+    const V ax = (x0 - ox) * inv_dx, bx = (x1 - ox) * inv_dx, ay = (y0 - oy) * inv_dy, by = (y1 - oy) * inv_dy;
+    const V in_x = simd::select((ox >= x0) & (ox <= x1), zero - inf, inf);
+    const V in_y = simd::select((oy >= y0) & (oy <= y1), zero - inf, inf);
+    t0 = max_as_std(t0, max_as_std(simd::select(dx == zero, in_x, min_as_std(ax, bx)),
+                                   simd::select(dy == zero, in_y, min_as_std(ay, by))));
+    t1 = min_as_std(t1, min_as_std(simd::select(dx == zero, zero - in_x, max_as_std(ax, bx)),
+                                   simd::select(dy == zero, zero - in_y, max_as_std(ay, by))));
+  }
   const V px = ox + t0 * dx - V(f.origin_x), py = oy + t0 * dy - V(f.origin_y);
   const V cx = px * V(f.inv_cell), cy = py * V(f.inv_cell);
   // floor_exact holds below 2^22 cells: a ray starting further out, or with a NaN, is left to SceneObjects.
@@ -53,7 +77,6 @@ inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid,
 
   V fi = simd::floor_exact(simd::select(walking, cx, zero)), fj = simd::floor_exact(simd::select(walking, cy, zero));
   const V si = simd::select(dx > zero, one, V(-1.0f)), sj = simd::select(dy > zero, one, V(-1.0f));
-  const V inv_dx = simd::div(one, simd::select(dx == zero, one, dx)), inv_dy = simd::div(one, simd::select(dy == zero, one, dy));
   const V cell(f.cell);
   const V step_x = simd::select(dx == zero, inf, cell * simd::abs(inv_dx));
   const V step_y = simd::select(dy == zero, inf, cell * simd::abs(inv_dy));

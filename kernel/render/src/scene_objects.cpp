@@ -176,6 +176,30 @@ void SceneObjects::build_floor_grid() {
       grid_cell_max_[std::size_t(j * (wx - 1) + i)] = std::max(std::max(p[0], p[1]), std::max(p[wx], p[wx + 1]));
     }
   }
+  // The bands (FloorBand): heights evenly from the lowest cell maximum to the highest, each band's box
+  // in cells (-1 .. n - 1, the border cells at the ends) and then in metres.
+  const auto [lo, hi] = std::minmax_element(grid_cell_max_.begin(), grid_cell_max_.end());
+  const std::int64_t cx = wx - 1, cy = wy - 1;
+  for (int k = 0; k < floor_bands; ++k) {
+    FloorBand& b = bands_[std::size_t(k)];
+    b.z = *lo + (*hi - *lo) * float(k) / float(floor_bands);
+    std::int64_t i0 = cx, i1 = -1, j0 = cy, j1 = -1;
+    for (std::int64_t j = 0; j < cy; ++j) {
+      for (std::int64_t i = 0; i < cx; ++i) {
+        if (!(grid_cell_max_[std::size_t(j * cx + i)] >= b.z)) continue;
+        i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
+      }
+    }
+    // Cell c (array index c, grid cell c - 1) spans [origin + (c - 1) cell, origin + c cell].
+    const auto edge = [&](std::int64_t c, double origin, bool border, float beyond) {
+      return border ? beyond : float(origin + double(c - 1) * cell_);
+    };
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    b.x0 = edge(i0 - 1, origin_x_, i0 == 0, -inf);
+    b.x1 = edge(i1 + 2, origin_x_, i1 == cx - 1, inf);
+    b.y0 = edge(j0 - 1, origin_y_, j0 == 0, -inf);
+    b.y1 = edge(j1 + 2, origin_y_, j1 == cy - 1, inf);
+  }
 }
 
 ObjectBounds SceneObjects::object_bounds() const noexcept {
@@ -185,10 +209,16 @@ ObjectBounds SceneObjects::object_bounds() const noexcept {
 }
 
 FloorGridView SceneObjects::floor_grid() const noexcept {
-  if (grid_z_.empty()) return {.too_large = nx_ > 0};
+  if (grid_z_.empty()) {
+    FloorGridView none;
+    none.too_large = nx_ > 0;
+    return none;
+  }
   constexpr float below = 1e-3f;  // as floor_span's range
-  return {grid_z_.data(), grid_cell_max_.data(), float(origin_x_), float(origin_y_), float(cell_), float(1.0 / cell_),
-          std::int32_t(nx_), std::int32_t(ny_), float(z_min_) - below, float(z_max_)};
+  FloorGridView v{grid_z_.data(), grid_cell_max_.data(), float(origin_x_), float(origin_y_), float(cell_), float(1.0 / cell_),
+                  std::int32_t(nx_), std::int32_t(ny_), float(z_min_) - below, float(z_max_)};
+  std::copy(bands_.begin(), bands_.end(), v.bands);
+  return v;
 }
 
 void SceneObjects::build_clearance() {

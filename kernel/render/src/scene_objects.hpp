@@ -166,6 +166,7 @@ class SceneObjects {
   std::vector<float> clear_max_;
   // floor_hits's grids: the samples and level 0's cell maxima, with a border of the edges repeated.
   std::vector<float> grid_z_, grid_cell_max_;
+  std::array<FloorBand, floor_bands> bands_{};
   double z_min_ = -std::numeric_limits<double>::infinity(), z_max_ = -std::numeric_limits<double>::infinity();
   LinearRgb sand_{};
 };
