@@ -194,11 +194,10 @@ void SceneObjects::build_floor_grid() {
     const auto edge = [&](std::int64_t c, double origin, bool border, float beyond) {
       return border ? beyond : float(origin + double(c - 1) * cell_);
     };
-    constexpr float inf = std::numeric_limits<float>::infinity();
-    b.x0 = edge(i0 - 1, origin_x_, i0 == 0, -inf);
-    b.x1 = edge(i1 + 2, origin_x_, i1 == cx - 1, inf);
-    b.y0 = edge(j0 - 1, origin_y_, j0 == 0, -inf);
-    b.y1 = edge(j1 + 2, origin_y_, j1 == cy - 1, inf);
+    b.x0 = edge(i0 - 1, origin_x_, i0 == 0, -float(inf));
+    b.x1 = edge(i1 + 2, origin_x_, i1 == cx - 1, float(inf));
+    b.y0 = edge(j0 - 1, origin_y_, j0 == 0, -float(inf));
+    b.y1 = edge(j1 + 2, origin_y_, j1 == cy - 1, float(inf));
   }
 }
 
