@@ -15,7 +15,7 @@ struct RenderTable {
   void (*reflect_refract_batch)(const ReflectRefractInput&, std::size_t, float, float, ReflectRefractOutput) noexcept;
   void (*sea_normals_batch)(const SeaNormalsInput&, std::size_t, SeaNormalsOutput) noexcept;
   void (*air_directions_batch)(const AirDirectionsInput&, std::size_t, float, AirDirectionsOutput) noexcept;
-  void (*sky_lookup_batch)(const float* texels, const float*, const float*, const float*, std::size_t, float*, float*,
+  void (*sky_lookup_batch)(const float* pairs, const float*, const float*, const float*, std::size_t, float*, float*,
                            float*) noexcept;
   void (*foam_cover_batch)(const SurfView&, const FoamInput&, std::size_t, float, float*) noexcept;
   void (*water_mix_batch)(const WaterTable&, const WaterMixInput&, std::size_t, WaterMixOutput) noexcept;

@@ -123,7 +123,7 @@ SkyXyY PreethamSky::evaluate(std::array<float, 3> view) const noexcept {
 
 LinearRgb PreethamSky::radiance(std::array<float, 3> view) const noexcept { return xyy_to_rgb(evaluate(view)); }
 
-SkyLut::SkyLut() : texels_(std::size_t(height) * (width + 1) * 3, 0.0f) {}
+SkyLut::SkyLut() : pairs_(std::size_t(height) * width * 3 * 2, 0.0f) {}
 
 void SkyLut::bake(const PreethamSky& sky) noexcept {
   // evaluate() per texel, with the zenith-angle factor of the Perez function hoisted out of each row:
@@ -133,7 +133,7 @@ void SkyLut::bake(const PreethamSky& sky) noexcept {
     const double r = std::sqrt(std::max(1.0 - z * z, 0.0));
     double row_scale[3];
     for (int k = 0; k < 3; ++k) row_scale[k] = sky.scale_[k] * perez_theta(sky.perez_[k], z);
-    float* row = &texels_[std::size_t(j) * (width + 1) * 3];
+    float* row = &pairs_[std::size_t(j) * width * 3 * 2];
     for (int i = 0; i <= width; ++i) {
       const auto xy = xy_of_column(4.0 * (i == width ? 0 : i) / width);  // the extra column repeats column 0
       const double cos_gamma =
@@ -146,9 +146,11 @@ void SkyLut::bake(const PreethamSky& sky) noexcept {
         *out[k] = row_scale[k] * (1.0 + c[2] * std::exp(c[3] * gamma) + c[4] * cos_gamma * cos_gamma);
       }
       const LinearRgb rgb = xyy_to_rgb(v);
-      row[3 * i] = rgb.r;
-      row[3 * i + 1] = rgb.g;
-      row[3 * i + 2] = rgb.b;
+      const float c[3] = {rgb.r, rgb.g, rgb.b};
+      for (int k = 0; k < 3; ++k) {
+        if (i < width) row[2 * (3 * i + k)] = c[k];           // the first of its own pair
+        if (i > 0) row[2 * (3 * (i - 1) + k) + 1] = c[k];     // the second of its left neighbour's
+      }
     }
   }
 }
@@ -156,7 +158,7 @@ void SkyLut::bake(const PreethamSky& sky) noexcept {
 static_assert(SkyLut::width == detail::sky_columns && SkyLut::height == detail::sky_rows);
 
 LinearRgb SkyLut::lookup(std::array<float, 3> d) const noexcept {
-  const auto c = detail::sky_lookup<simd::scalar>(texels_.data(), d[0], d[1], d[2]);
+  const auto c = detail::sky_lookup<simd::scalar>(pairs_.data(), d[0], d[1], d[2]);
   return {c.r, c.g, c.b};
 }
 
@@ -171,13 +173,13 @@ void check_lookup(const float* x, const float* y, const float* z, std::size_t n,
 void SkyLut::lookup(const float* x, const float* y, const float* z, std::size_t n, float* r, float* g,
                     float* b) const noexcept {
   check_lookup(x, y, z, n, r, g, b);
-  simd::active_table<detail::RenderTable>().sky_lookup_batch(texels_.data(), x, y, z, n, r, g, b);
+  simd::active_table<detail::RenderTable>().sky_lookup_batch(pairs_.data(), x, y, z, n, r, g, b);
 }
 
 void SkyLut::lookup(Isa isa, const float* x, const float* y, const float* z, std::size_t n, float* r, float* g,
                     float* b) const noexcept {
   check_lookup(x, y, z, n, r, g, b);
-  simd::table_for<detail::RenderTable>(isa).sky_lookup_batch(texels_.data(), x, y, z, n, r, g, b);
+  simd::table_for<detail::RenderTable>(isa).sky_lookup_batch(pairs_.data(), x, y, z, n, r, g, b);
 }
 
 // ---- The sun below the horizon ----

@@ -55,10 +55,13 @@ struct SkyRgb {
   simd::vfloat<A> r, g, b;
 };
 
-/// Bilinear lookup in `texels` (sky_rows rows of sky_columns + 1 RGB texels) along the unit direction
-/// (x, y, z); below the horizon gives the horizon at that azimuth.
+/// Bilinear lookup in `pairs` along the unit direction (x, y, z); below the horizon gives the horizon
+/// at that azimuth. The table holds, for each of sky_rows rows and sky_columns columns and each
+/// channel c, the texel's value and its right neighbour's: pairs[2 ((j sky_columns + i) 3 + c) + 0, 1]
+/// (the columns run on to a repeat of column 0), so a row's two texels are one 64-bit element (half
+/// the gathered elements, docs/design.md 10).
 template <class A>
-inline SkyRgb<A> sky_lookup(const float* texels, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> z) {
+inline SkyRgb<A> sky_lookup(const float* pairs, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> z) {
   using V = simd::vfloat<A>;
   using I = simd::vint<A>;
   const V fu = min_as_std(max_as_std(V(0.0f), sky_column_of_xy<A>(x, y) * V(float(sky_columns / 4))),
@@ -68,11 +71,12 @@ inline SkyRgb<A> sky_lookup(const float* texels, simd::vfloat<A> x, simd::vfloat
   const I i = min(simd::to_int_exact(fu), I(sky_columns - 1));
   const I j = min(simd::to_int_exact(fv), I(sky_rows - 2));
   const V a = fu - simd::to_float_exact(i), b = fv - simd::to_float_exact(j);
-  const I t00 = (j * I(sky_columns + 1) + i) * I(3);
-  const I t01 = t00 + I((sky_columns + 1) * 3);
+  const I p0 = (j * I(sky_columns) + i) * I(3);
+  const I p1 = p0 + I(sky_columns * 3);
   const auto bilerp = [&](int c) {
-    const V v00 = simd::gather(texels, t00 + I(c)), v10 = simd::gather(texels, t00 + I(3 + c));
-    const V v01 = simd::gather(texels, t01 + I(c)), v11 = simd::gather(texels, t01 + I(3 + c));
+    V v00, v10, v01, v11;
+    simd::gather_pair(pairs, p0 + I(c), v00, v10);
+    simd::gather_pair(pairs, p1 + I(c), v01, v11);
     const V lo = v00 + a * (v10 - v00);
     const V hi = v01 + a * (v11 - v01);
     return lo + b * (hi - lo);
@@ -81,10 +85,10 @@ inline SkyRgb<A> sky_lookup(const float* texels, simd::vfloat<A> x, simd::vfloat
 }
 
 template <class A>
-void sky_lookup_batch(const float* texels, const float* x, const float* y, const float* z, std::size_t n, float* r,
+void sky_lookup_batch(const float* pairs, const float* x, const float* y, const float* z, std::size_t n, float* r,
                       float* g, float* b) noexcept {
   simd::for_batches<A>(n, [&](const auto& batch) HOULE_BATCH_BODY {
-    const SkyRgb<A> c = sky_lookup<A>(texels, batch.load(x), batch.load(y), batch.load(z, 1.0f));
+    const SkyRgb<A> c = sky_lookup<A>(pairs, batch.load(x), batch.load(y), batch.load(z, 1.0f));
     batch.store(r, c.r);
     batch.store(g, c.g);
     batch.store(b, c.b);

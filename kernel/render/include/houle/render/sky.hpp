@@ -81,7 +81,7 @@ class SkyLut {
               float* b) const noexcept;
 
  private:
-  std::vector<float> texels_;  // height rows of (width + 1) RGB texels
+  std::vector<float> pairs_;  // per row, column and channel the texel and its right neighbour (sky_impl.hpp)
 };
 
 // ---- The sun below the horizon ------------------------------------------------------------------
