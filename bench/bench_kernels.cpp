@@ -1,6 +1,7 @@
 // Per-sample kernels on every supported ISA, so one run shows the SIMD speed-up side by side:
-// Gerstner height + gradient, and capillary noise (height + gradient, and height only) at every
-// octave, i.e. the cost of a sample near the camera where the LOD keeps all of them.
+// Gerstner height + gradient, capillary noise (height + gradient, and height only) at every
+// octave, i.e. the cost of a sample near the camera where the LOD keeps all of them, and two of the
+// shading's table lookups: the sky along a direction, the water's colour along a path (eq. 12).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -8,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "houle/render/colour.hpp"
+#include "houle/render/sky.hpp"
 #include "houle/surface/capillary.hpp"
 #include "houle/surface/gerstner.hpp"
 #include "houle/runtime/isa.hpp"
@@ -59,6 +62,44 @@ void bm_capillary(benchmark::State& state, houle::Isa isa, bool gradient) {
   count_samples(state, n);
 }
 
+// The sky table at 1003 directions, every azimuth, from the horizon up (reflected rays' spread).
+void bm_sky(benchmark::State& state, houle::Isa isa) {
+  const auto sky = houle::PreethamSky::make(3.0, {0.3f, -0.5f, 0.81f});
+  houle::SkyLut lut;
+  lut.bake(sky.value());
+  const std::size_t n = 1003;
+  std::vector<float> x(n), y(n), z(n), r(n), g(n), b(n);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float az = 6.2831853f * u(rng), el = 1.5f * u(rng);
+    x[i] = std::cos(az) * std::cos(el), y[i] = std::sin(az) * std::cos(el), z[i] = std::sin(el);
+  }
+  for (auto _ : state) {
+    lut.lookup(isa, x.data(), y.data(), z.data(), n, r.data(), g.data(), b.data());
+    benchmark::DoNotOptimize(r.data());
+    benchmark::ClobberMemory();
+  }
+  count_samples(state, n);
+}
+
+// The water colour of 1003 objects of random colours seen through 0 to 20 m of water.
+void bm_water_mix(benchmark::State& state, houle::Isa isa) {
+  const auto water = houle::WaterColourLut::make(houle::WaterColourParams{});
+  const std::size_t n = 1003;
+  std::vector<float> r(n), g(n), b(n), d(n), s(n), e(n, 1.0f), out_r(n), out_g(n), out_b(n);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (std::size_t i = 0; i < n; ++i) r[i] = u(rng), g[i] = u(rng), b[i] = u(rng), d[i] = 20.0f * u(rng), s[i] = 5.0f * u(rng);
+  for (auto _ : state) {
+    water.value().mix(isa, {r.data(), g.data(), b.data(), d.data(), s.data(), e.data()}, n,
+                      {out_r.data(), out_g.data(), out_b.data()});
+    benchmark::DoNotOptimize(out_r.data());
+    benchmark::ClobberMemory();
+  }
+  count_samples(state, n);
+}
+
 const bool registered = [] {
   for (houle::Isa isa : houle::supported_isas()) {
     const std::string name(houle::isa_name(isa));
@@ -70,6 +111,8 @@ const bool registered = [] {
     benchmark::RegisterBenchmark(("capillary_eval/height/" + name).c_str(), bm_capillary, isa, false)
         ->ArgName("level")
         ->Arg(6);
+    benchmark::RegisterBenchmark(("sky_lookup/" + name).c_str(), bm_sky, isa);
+    benchmark::RegisterBenchmark(("water_mix/" + name).c_str(), bm_water_mix, isa);
   }
   return true;
 }();

@@ -328,7 +328,7 @@ Expected<WaterColourLut> WaterColourLut::make(const WaterColourParams& p) {
   const int n = p.lut_entries;
   lut.entries_ = n;
   lut.half_distance_m_ = float(p.lut_half_distance_m);
-  lut.table_.assign(std::size_t(n) * row_floats, 0.0f);
+  std::vector<float> table(std::size_t(n) * row_floats, 0.0f);
 
   const Spectrum a = water_absorption(p.cdom_absorption_440_per_m);
   const Spectrum& light = d65_unit();
@@ -349,7 +349,7 @@ Expected<WaterColourLut> WaterColourLut::make(const WaterColourParams& p) {
     const double d = infinite ? 0.0 : p.lut_half_distance_m * u / (1.0 - u);
     Spectrum k{};
     for (int i = 0; i < spectrum_samples; ++i) k[i] = infinite ? 0.0 : std::exp(-a[i] * d);
-    float* row = &lut.table_[std::size_t(e) * row_floats];
+    float* row = &table[std::size_t(e) * row_floats];
     for (int b = 0; b < smits_basis_count; ++b) {
       const CieXyz xyz = integrate(times(lit[b], k));
       Vec3d rgb = mul(xyz_to_srgb, xyz_vec(xyz));
@@ -366,6 +366,13 @@ Expected<WaterColourLut> WaterColourLut::make(const WaterColourParams& p) {
     for (int c = 0; c < 3; ++c) row[3 * smits_basis_count + c] = float(rgb[c]);
   }
 
+  // Each value with the next row's beside it (detail::WaterTable).
+  lut.pairs_.assign(std::size_t(n - 1) * row_floats * 2, 0.0f);
+  for (std::size_t q = 0; q + row_floats < table.size(); ++q) {
+    lut.pairs_[2 * q] = table[q];
+    lut.pairs_[2 * q + 1] = table[q + row_floats];
+  }
+
   const LinearRgb fit = water_transmittance_rgb(p.rgb_fit_distance_m, p.cdom_absorption_440_per_m);
   const double fit_t[3] = {fit.r, fit.g, fit.b};
   for (int c = 0; c < 3; ++c) {
@@ -379,7 +386,7 @@ Expected<WaterColourLut> WaterColourLut::make(const WaterColourParams& p) {
 
 detail::WaterTable WaterColourLut::table() const noexcept {
   static_assert(row_floats == detail::water_row_floats);
-  return {table_.data(), entries_, half_distance_m_};
+  return {pairs_.data(), entries_, half_distance_m_};
 }
 
 namespace {

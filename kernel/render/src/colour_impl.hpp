@@ -41,16 +41,18 @@ inline Rgb<A> grey_mapped(const Rgb<A>& c) {
 }
 
 /// The water colour table as the lookups read it: `entries` rows of water_row_floats, row k at path
-/// length d = half_distance k / (entries - 1 - k) (the last at infinity).
+/// length d = half_distance k / (entries - 1 - k) (the last at infinity), stored as pairs: value q of
+/// row k and of row k + 1 at pairs[2 (k water_row_floats + q) + 0, 1], for k < entries - 1, so that a
+/// lookup fetches both rows' values as one 64-bit element (half the gathered elements, docs/design.md 10).
 inline constexpr int water_bases = smits_basis_count;
 inline constexpr int water_row_floats = (water_bases + 1) * 3;  // 7 bases and I_sea, RGB each
 struct WaterTable {
-  const float* rows;
+  const float* pairs;
   int entries;
   float half_distance_m;
 };
 
-/// Where distance d falls in the table: the first float of the row below and the weight of the one
+/// Where distance d falls in the table: the first pair of the row below and the weight of the one
 /// above. u = d / (d + d_half), written so that d = +infinity gives 1 and NaN or d < 0 give 0.
 template <class A>
 struct WaterPosition {
@@ -73,9 +75,10 @@ inline WaterPosition<A> water_position(const WaterTable& w, simd::vfloat<A> dist
 template <class A>
 inline Rgb<A> water_lerp(const WaterTable& w, const WaterPosition<A>& p, simd::vint<A> column) {
   using I = simd::vint<A>;
-  const I a = p.row + column * I(3), b = a + I(water_row_floats);
+  const I a = p.row + column * I(3);
   const auto channel = [&](int c) {
-    const simd::vfloat<A> lo = simd::gather(w.rows, a + I(c)), hi = simd::gather(w.rows, b + I(c));
+    simd::vfloat<A> lo, hi;
+    simd::gather_pair(w.pairs, a + I(c), lo, hi);
     return lo + p.t * (hi - lo);
   };
   return {channel(0), channel(1), channel(2)};

@@ -205,9 +205,11 @@ class WaterColourLut {
  private:
   WaterColourLut() = default;
   static constexpr int row_floats = (smits_basis_count + 1) * 3;  // 7 bases and I_sea, RGB each
-  detail::WaterTable table() const noexcept;  ///< the lookups' view of table_
+  detail::WaterTable table() const noexcept;  ///< the lookups' view of pairs_
 
-  std::vector<float> table_;  // entries_ rows of row_floats: [white..blue, sea][r, g, b]
+  /// entries_ - 1 rows of row_floats pairs: [white..blue, sea][r, g, b], each the value at the row's
+  /// distance and at the next row's.
+  std::vector<float> pairs_;
   int entries_ = 0;
   float half_distance_m_ = 0.0f;
   LinearRgb sea_colour_;
