@@ -336,8 +336,9 @@ LinearRgb Renderer::Impl::through_water_to(const SurfaceHit& h, LinearRgb albedo
 
 /// Whether the sun reaches the sea's surface at p past the boxes and spheres (docs/rendering.md 3.5):
 /// its glint and its share of the water's light are in their shadow otherwise. The ray goes only as
-/// far as the highest object.
-bool Renderer::Impl::sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept {
+/// far as the highest object. Forced inline: it is asked for nearly every sea pixel and almost always
+/// answers at the mask, and out of line the call cost more than the answer.
+__attribute__((always_inline)) inline bool Renderer::Impl::sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept {
   if (!quality.shadows || !(sun[2] > 0.0f) || !(casters_top > p[2])) return true;
   if (!sun_mask.may_meet(along(p, offset_normal, offset))) return true;  // the line misses every caster
   const double reach = double(casters_top - p[2]) / double(sun[2]) + 1.0;
