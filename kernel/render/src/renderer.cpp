@@ -438,18 +438,20 @@ void Renderer::Impl::nearest_hits(Scratch& s, std::size_t rays, std::vector<Surf
                      rays,
                      {a[Scratch::hit_t], a[Scratch::hit_nx], a[Scratch::hit_ny], a[Scratch::hit_nz], a[Scratch::hit_left],
                       a[Scratch::hit_objects]});
+  const auto ray = [a](std::size_t k) {
+    return SceneRay{a[Scratch::ray_ox][k], a[Scratch::ray_oy][k], a[Scratch::ray_oz][k],
+                    a[Scratch::ray_dx][k], a[Scratch::ray_dy][k], a[Scratch::ray_dz][k]};
+  };
   for (std::size_t k = 0; k < rays; ++k) {
-    const SceneRay r{a[Scratch::ray_ox][k], a[Scratch::ray_oy][k], a[Scratch::ray_oz][k],
-                     a[Scratch::ray_dx][k], a[Scratch::ray_dy][k], a[Scratch::ray_dz][k]};
     const float reach = a[Scratch::ray_reach][k];
     SurfaceHit& h = hits[s.ray_pixel[k]];
     h = SurfaceHit{};
     if (a[Scratch::hit_left][k] > 0.0f) {
-      h = objects.intersect_secondary(r, 0.0, double(reach));
+      h = objects.intersect_secondary(ray(k), 0.0, double(reach));
       continue;
     }
     const float t_floor = a[Scratch::hit_t][k];
-    if (a[Scratch::hit_objects][k] > 0.0f) h = objects.intersect_objects(r, 0.0, double(std::min(t_floor, reach)));
+    if (a[Scratch::hit_objects][k] > 0.0f) h = objects.intersect_objects(ray(k), 0.0, double(std::min(t_floor, reach)));
     if (h.kind == HitKind::none && t_floor < reach) {
       h = {t_floor, HitKind::floor, 0, {a[Scratch::hit_nx][k], a[Scratch::hit_ny][k], a[Scratch::hit_nz][k]}};
     }
