@@ -176,28 +176,44 @@ void SceneObjects::build_floor_grid() {
       grid_cell_max_[std::size_t(j * (wx - 1) + i)] = std::max(std::max(p[0], p[1]), std::max(p[wx], p[wx + 1]));
     }
   }
-  // The bands (FloorBand): heights evenly from the lowest cell maximum to the highest, each band's box
-  // in cells (-1 .. n - 1, the border cells at the ends) and then in metres.
+  // The bands (FloorBand): heights evenly from the lowest cell maximum to the highest (rising with the
+  // index, so a cell reaches the bands up to one), each band's box in cells (-1 .. n - 1, the border
+  // cells at the ends) and then in metres. One pass: each cell goes into the box of the highest band
+  // it reaches, then every box takes in the boxes above it.
   const auto [lo, hi] = std::minmax_element(grid_cell_max_.begin(), grid_cell_max_.end());
+  for (int k = 0; k < floor_bands; ++k) bands_[std::size_t(k)].z = *lo + (*hi - *lo) * float(k) / float(floor_bands);
   const std::int64_t cx = wx - 1, cy = wy - 1;
-  for (int k = 0; k < floor_bands; ++k) {
-    FloorBand& b = bands_[std::size_t(k)];
-    b.z = *lo + (*hi - *lo) * float(k) / float(floor_bands);
-    std::int64_t i0 = cx, i1 = -1, j0 = cy, j1 = -1;
-    for (std::int64_t j = 0; j < cy; ++j) {
-      for (std::int64_t i = 0; i < cx; ++i) {
-        if (!(grid_cell_max_[std::size_t(j * cx + i)] >= b.z)) continue;
-        i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
-      }
+  struct Cells {
+    std::int64_t i0, i1, j0, j1;
+  };
+  std::array<Cells, floor_bands> boxes;
+  boxes.fill({cx, -1, cy, -1});  // empty
+  for (std::int64_t j = 0; j < cy; ++j) {
+    for (std::int64_t i = 0; i < cx; ++i) {
+      const float m = grid_cell_max_[std::size_t(j * cx + i)];
+      if (!(m >= bands_[0].z)) continue;
+      std::size_t k = 0;
+      while (k + 1 < floor_bands && m >= bands_[k + 1].z) ++k;
+      Cells& c = boxes[k];
+      c.i0 = std::min(c.i0, i), c.i1 = std::max(c.i1, i), c.j0 = std::min(c.j0, j), c.j1 = std::max(c.j1, j);
     }
-    // Cell c (array index c, grid cell c - 1) spans [origin + (c - 1) cell, origin + c cell].
-    const auto edge = [&](std::int64_t c, double origin, bool border, float beyond) {
-      return border ? beyond : float(origin + double(c - 1) * cell_);
-    };
-    b.x0 = edge(i0 - 1, origin_x_, i0 == 0, -float(inf));
-    b.x1 = edge(i1 + 2, origin_x_, i1 == cx - 1, float(inf));
-    b.y0 = edge(j0 - 1, origin_y_, j0 == 0, -float(inf));
-    b.y1 = edge(j1 + 2, origin_y_, j1 == cy - 1, float(inf));
+  }
+  for (std::size_t k = floor_bands - 1; k-- > 0;) {
+    const Cells& up = boxes[k + 1];
+    Cells& c = boxes[k];
+    c = {std::min(c.i0, up.i0), std::max(c.i1, up.i1), std::min(c.j0, up.j0), std::max(c.j1, up.j1)};
+  }
+  // Cell c (array index c, grid cell c - 1) spans [origin + (c - 1) cell, origin + c cell].
+  const auto edge = [&](std::int64_t c, double origin, bool border, float beyond) {
+    return border ? beyond : float(origin + double(c - 1) * cell_);
+  };
+  for (std::size_t k = 0; k < floor_bands; ++k) {
+    const Cells& c = boxes[k];
+    FloorBand& b = bands_[k];
+    b.x0 = edge(c.i0 - 1, origin_x_, c.i0 == 0, -float(inf));
+    b.x1 = edge(c.i1 + 2, origin_x_, c.i1 == cx - 1, float(inf));
+    b.y0 = edge(c.j0 - 1, origin_y_, c.j0 == 0, -float(inf));
+    b.y1 = edge(c.j1 + 2, origin_y_, c.j1 == cy - 1, float(inf));
   }
 }
 
