@@ -29,12 +29,6 @@ using detail::HitKind;
 using detail::SceneRay;
 using detail::SurfaceHit;
 
-/// What a primary ray met (primary_hits), and whether it met a moving object's bounds then.
-struct PrimaryMemo {
-  SurfaceHit hit;
-  bool movers = false;
-};
-
 constexpr float pi = std::numbers::pi_v<float>;
 
 // Fixed sub-pixel positions (pixel units from the pixel's corner): deterministic, so identical frames
@@ -54,10 +48,11 @@ constexpr float sky_water_transmission = 0.934f;
 // The exposure never follows a sun near or below the horizon further down than this (klx): the sky
 // would otherwise be blown up without limit.
 constexpr double min_reference_klx = 10.0;
-// One PrimaryMemo per pixel and sample, up to Renderer::max_kept_bytes: a 1920 x 1080 image keeps 55 MiB
-// at one sample and 221 MiB at four; at 8 samples (film) it would be 443 MiB, which a film render does
-// without.
-static_assert(sizeof(PrimaryMemo) == Renderer::kept_hit_bytes);
+// Per pixel and sample, up to Renderer::max_kept_bytes: what the primary ray met, the marcher's t_max
+// from it, and whether it met a moving object's bounds (primary_hits). A 1920 x 1080 image keeps 57
+// MiB at one sample and 229 MiB at four; at 8 samples (film) it would be 457 MiB, which a film render
+// does without.
+static_assert(sizeof(SurfaceHit) + sizeof(float) + sizeof(std::uint8_t) == Renderer::kept_hit_bytes);
 
 LinearRgb operator*(LinearRgb a, float s) { return {a.r * s, a.g * s, a.b * s}; }
 LinearRgb operator*(LinearRgb a, LinearRgb b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
@@ -144,7 +139,8 @@ struct alignas(64) Scratch {
   float* a[count] = {};
   std::vector<float> accumulated;  // 3 per pixel
   std::vector<MarchStatus> status;
-  std::vector<SurfaceHit> object;
+  SurfaceHit* object = nullptr;  // the row's primary hits: own_object, or the memo's row
+  std::vector<SurfaceHit> own_object;
   std::vector<SurfaceHit> under;  // what the ray into the water from a sea hit meets (shade_sample)
   std::vector<SurfaceHit> air;    // what the ray into the air from a sea hit meets (with reflect_objects)
   std::vector<std::uint32_t> ray_pixel;
@@ -157,7 +153,8 @@ struct alignas(64) Scratch {
     for (int k = 0; k < count; ++k) a[k] = memory.data() + stride * std::size_t(k);
     accumulated.assign(std::size_t(width) * 3, 0.0f);
     status.assign(width, MarchStatus::miss);
-    object.assign(width, SurfaceHit{});
+    own_object.assign(width, SurfaceHit{});
+    object = own_object.data();
     under.assign(width, SurfaceHit{});
     air.assign(width, SurfaceHit{});
     ray_pixel.assign(width, 0);
@@ -199,8 +196,12 @@ struct Renderer::Impl {
   std::unique_ptr<detail::ThreadPool> pool;
   std::vector<std::unique_ptr<Scratch>> scratch;
   // The primary rays' object and floor hits, row by row (row r, sample k: entries (r samples + k) width
-  // onwards), and the camera and cut they were found for: a still camera finds them there the next frame.
-  std::vector<PrimaryMemo> memo;
+  // onwards), the marcher's t_max from each and whether it met a mover's bounds, and the camera and cut
+  // they were found for: a still camera finds them there the next frame. Apart, so that a kept sea pixel
+  // reads 5 bytes, not its hit (which only the shading of what is not sea reads).
+  std::vector<SurfaceHit> memo_hits;
+  std::vector<float> memo_t_max;
+  std::vector<std::uint8_t> memo_movers;
   Camera memo_camera;
   double memo_cut = std::numeric_limits<double>::quiet_NaN();  // NaN: none kept yet
   bool memo_refill = true;  // this frame: the camera or the cut moved
@@ -244,8 +245,8 @@ struct Renderer::Impl {
                              float illumination) const noexcept;
   static void pack_ray(Scratch& s, std::size_t k, std::size_t i, const Vec3& p, const Vec3& offset_normal, float offset,
                        const Vec3& d, float reach) noexcept;
-  void nearest_hits(Scratch& s, std::size_t rays, std::vector<SurfaceHit>& hits) const noexcept;
-  void primary_hits(Scratch& s, PrimaryMemo* memo_row) noexcept;
+  void nearest_hits(Scratch& s, std::size_t rays, SurfaceHit* hits) const noexcept;
+  void primary_hits(Scratch& s, std::size_t memo_row) noexcept;
   void find_water_hits(Scratch& s) const noexcept;
   void find_air_hits(Scratch& s) const noexcept;
   void light_under_water(Scratch& s) const noexcept;
@@ -430,7 +431,7 @@ void Renderer::Impl::pack_ray(Scratch& s, std::size_t k, std::size_t i, const Ve
 /// other pixels' entries are left as they are): the floor a packet at a time (floor_hits,
 /// docs/rendering.md 1.5), then the boxes and spheres before it one by one where the packets say the
 /// ray may meet their bounds; the rays the packets leave go through SceneObjects' walk.
-void Renderer::Impl::nearest_hits(Scratch& s, std::size_t rays, std::vector<SurfaceHit>& hits) const noexcept {
+void Renderer::Impl::nearest_hits(Scratch& s, std::size_t rays, SurfaceHit* hits) const noexcept {
   float* const* a = s.a;
   detail::floor_hits(objects.floor_grid(), objects.object_bounds(),
                      {a[Scratch::ray_ox], a[Scratch::ray_oy], a[Scratch::ray_oz], a[Scratch::ray_dx], a[Scratch::ray_dy],
@@ -477,7 +478,7 @@ void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
              1e-3f + 1e-4f * a[Scratch::t][i], direction(i), std::min(underwater_reach, max_distance));
   }
   std::fill(s.under.begin(), s.under.end(), SurfaceHit{});
-  nearest_hits(s, rays, s.under);
+  nearest_hits(s, rays, s.under.data());
   for (std::size_t i = 0; i < width; ++i) {
     const float side = a[Scratch::side][i];
     const SurfaceHit* h = side != 0.0f ? &s.under[i] : &s.object[i];
@@ -510,7 +511,7 @@ void Renderer::Impl::find_air_hits(Scratch& s) const noexcept {
     }
   }
   std::fill(s.air.begin(), s.air.end(), SurfaceHit{});
-  nearest_hits(s, rays, s.air);
+  nearest_hits(s, rays, s.air.data());
 }
 
 /// For each sea hit seen from above, whether the sun reaches it (s.lit) and the light its refracted ray
@@ -654,13 +655,17 @@ void Renderer::Impl::add_aovs(const Scratch& s, std::uint32_t row, int sample) c
 
 /// The primary rays' object and floor hits for the row's directions, into s.object, and the marcher's
 /// t_max from them (docs/rendering.md 2.4). They depend on the camera, the cut and the objects' poses
-/// only: with a memo row (one entry per pixel), a ray keeps the hit found when the camera and the cut
-/// were this frame's unless it meets a moving object's bounds, now or then; the others are found, a
-/// packet at a time (nearest_hits), and kept.
-void Renderer::Impl::primary_hits(Scratch& s, PrimaryMemo* memo_row) noexcept {
+/// only: with the memo (`memo_row`: the row's first entry; without it, the scratch's own row), a ray
+/// keeps the hit found when the camera and the cut were this frame's unless it meets a moving object's
+/// bounds, now or then; the others are found, a packet at a time (nearest_hits), into the memo's row.
+void Renderer::Impl::primary_hits(Scratch& s, std::size_t memo_row) noexcept {
   float* const* a = s.a;
   const Vec3& o = camera.position;
   const bool movers = objects.has_movers();
+  const bool kept = !memo_hits.empty();
+  s.object = kept ? memo_hits.data() + memo_row : s.own_object.data();
+  float* const kept_t_max = kept ? memo_t_max.data() + memo_row : nullptr;
+  std::uint8_t* const kept_movers = kept ? memo_movers.data() + memo_row : nullptr;
   std::size_t rays = 0;
   for (std::size_t i = 0; i < width; ++i) {
     const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
@@ -668,20 +673,20 @@ void Renderer::Impl::primary_hits(Scratch& s, PrimaryMemo* memo_row) noexcept {
     const float reach =
         d[2] < 0.0f ? std::min(max_distance, float((primary_floor_lo - double(o[2])) / double(d[2]))) : max_distance;
     const bool meets_movers = movers && objects.meets_movers(make_ray(o, d, 0.0f, d), double(reach));
-    if (memo_row != nullptr && !memo_refill && !meets_movers && !memo_row[i].movers) {
-      s.object[i] = memo_row[i].hit;
+    if (kept && !memo_refill && !meets_movers && kept_movers[i] == 0) {
+      a[Scratch::t_max][i] = kept_t_max[i];
       ++s.counters.reused;
       continue;
     }
-    if (memo_row != nullptr) memo_row[i].movers = meets_movers;
+    if (kept) kept_movers[i] = meets_movers ? 1 : 0;
     pack_ray(s, rays++, i, o, {0.0f, 0.0f, 0.0f}, 0.0f, d, reach);
   }
   nearest_hits(s, rays, s.object);
-  if (memo_row != nullptr) {
-    for (std::size_t k = 0; k < rays; ++k) memo_row[s.ray_pixel[k]].hit = s.object[s.ray_pixel[k]];
-  }
-  for (std::size_t i = 0; i < width; ++i) {
-    a[Scratch::t_max][i] = s.object[i].kind != HitKind::none ? s.object[i].t : max_distance;
+  for (std::size_t k = 0; k < rays; ++k) {
+    const std::size_t i = s.ray_pixel[k];
+    const float t_max = s.object[i].kind != HitKind::none ? s.object[i].t : max_distance;
+    a[Scratch::t_max][i] = t_max;
+    if (kept) kept_t_max[i] = t_max;
   }
 }
 
@@ -696,7 +701,7 @@ void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
   for (int k = 0; k < samples; ++k) {
     const auto t0 = Clock::now();
     camera_row_rays(camera, row, 0, w, offsets[k].x, offsets[k].y, a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]);
-    primary_hits(s, memo.empty() ? nullptr : memo.data() + (std::size_t(row) * samples + k) * w);
+    primary_hits(s, (std::size_t(row) * samples + k) * w);
     const auto t1 = Clock::now();
     march_rays(*surface, march, rays, w, hits);
     const auto t2 = Clock::now();
@@ -825,7 +830,11 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
   r.pool = std::move(pool.value());
   for (unsigned w = 0; w < r.pool->size(); ++w) r.scratch.push_back(std::make_unique<Scratch>(width));
   const std::size_t memo_entries = std::size_t(width) * height * std::size_t(r.samples);
-  if (memo_entries <= max_kept_bytes / kept_hit_bytes) r.memo.resize(memo_entries);
+  if (memo_entries <= max_kept_bytes / kept_hit_bytes) {
+    r.memo_hits.resize(memo_entries);
+    r.memo_t_max.resize(memo_entries);
+    r.memo_movers.resize(memo_entries);
+  }
   return Renderer(std::move(impl));
 }
 

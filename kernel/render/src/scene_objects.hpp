@@ -8,9 +8,9 @@
 // The arithmetic is double: rays here are few per pixel, and the grid walk and quadratics are then
 // robust for the long, grazing rays a low camera sends over the beach.
 //
-// Primary rays of a still camera keep what they met from one frame to the next (PrimaryMemo,
-// docs/rendering.md 2.4): only the sea's slab moves, and with it where the floor walk stops, and the
-// moving objects (floating ones), whose rays are found afresh each frame.
+// Primary rays of a still camera keep what they met from one frame to the next (the renderer's memo,
+// docs/rendering.md 2.4), but for the rays that may meet a moving (floating) object: those are found
+// afresh each frame.
 #pragma once
 #include <array>
 #include <cstdint>

@@ -159,7 +159,7 @@ class Renderer {
  public:
   /// Bytes of primary hits kept per pixel and sample for a still camera, and the most kept: an image
   /// x samples over it keeps none and intersects every frame.
-  static constexpr std::size_t kept_hit_bytes = 28, max_kept_bytes = std::size_t(256) << 20;
+  static constexpr std::size_t kept_hit_bytes = 29, max_kept_bytes = std::size_t(256) << 20;
   /// The reflected sea ray's minimum z after clamping (see the file comment).
   static constexpr float min_reflected_dz = 0.01f;
   /// m: refracted and under-water rays that meet nothing within this see I_sea.
