@@ -43,8 +43,8 @@ inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid,
   V t1 = min_as_std(t_max, simd::select(dz < zero, t_lo, t_hi));
   const V inv_dx = simd::div(one, simd::select(dx == zero, one, dx)), inv_dy = simd::div(one, simd::select(dy == zero, one, dy));
   {
-    // The ray meets no cell lower than its lowest point on [t0, t1]: it walks only the box of the
-    // highest band at or below that point (FloorBand).
+    // The ray meets no cell whose highest corner is below its lowest point on [t0, t1]: it walks only
+    // the box of the highest band at or below that point (FloorBand).
     const V z_low = min_as_std(oz + t0 * dz, oz + t1 * dz);
     V x0(-inf), x1(inf), y0(-inf), y1(inf);
     for (int k = 1; k < floor_bands; ++k) {

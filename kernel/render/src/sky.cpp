@@ -148,8 +148,8 @@ void SkyLut::bake(const PreethamSky& sky) noexcept {
       const LinearRgb rgb = xyy_to_rgb(v);
       const float c[3] = {rgb.r, rgb.g, rgb.b};
       for (int k = 0; k < 3; ++k) {
-        if (i < width) row[2 * (3 * i + k)] = c[k];           // the first of its own pair
-        if (i > 0) row[2 * (3 * (i - 1) + k) + 1] = c[k];     // the second of its left neighbour's
+        if (i < width) row[2 * (3 * i + k)] = c[k];        // the first of its own pair
+        if (i > 0) row[2 * (3 * (i - 1) + k) + 1] = c[k];  // the second of its left neighbour's
       }
     }
   }
