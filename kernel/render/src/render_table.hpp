@@ -6,6 +6,7 @@
 #include "foam.hpp"
 #include "houle/render/optics.hpp"
 #include "sand.hpp"
+#include "sea_light.hpp"
 #include "floor_hits.hpp"
 
 namespace houle::detail {
@@ -20,6 +21,7 @@ struct RenderTable {
   void (*foam_cover_batch)(const SurfView&, const FoamInput&, std::size_t, float, float*) noexcept;
   void (*water_mix_batch)(const WaterTable&, const WaterMixInput&, std::size_t, WaterMixOutput) noexcept;
   void (*sand_albedo_batch)(const LinearRgb&, const SandInput&, std::size_t, SandOutput) noexcept;
+  void (*sea_light_batch)(const SeaLightParams&, const SeaLightInput&, std::size_t, SeaLightOutput) noexcept;
   void (*floor_hits_batch)(const FloorGridView&, const ObjectBounds&, const FloorRays&, std::size_t, FloorHits) noexcept;
 };
 

@@ -18,6 +18,7 @@
 #include "sand.hpp"
 #include "sand_impl.hpp"
 #include "scene_objects.hpp"
+#include "sea_light.hpp"
 #include "shadow_mask.hpp"
 
 namespace houle {
@@ -132,6 +133,7 @@ struct alignas(64) Scratch {
     dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, rough, side, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr,
     ax, ay, az, sky_r, sky_g, sky_b, foam, on_sand, qx, qy, qz, footprint, sand_r, sand_g, sand_b, lit,
     seen_r, seen_g, seen_b, seen_t, seen_path, seen_illumination, under_r, under_g, under_b,
+    air_hit, reflected_r, reflected_g, reflected_b, light_r, light_g, light_b, glint_lobe,
     // A row's primary or secondary rays, packed (nearest_hits): ray k is pixel ray_pixel[k]'s.
     ray_ox, ray_oy, ray_oz, ray_dx, ray_dy, ray_dz, ray_reach, hit_t, hit_nx, hit_ny, hit_nz, hit_left, hit_objects, count
   };
@@ -220,11 +222,14 @@ struct Renderer::Impl {
   MarchParams march;
   bool camera_under = false;
   double primary_floor_lo = 0.0;
+  detail::SeaLightParams sea_light;  // this frame's light for the sea seen from above
 
   void render_row(Scratch& s, std::uint32_t row) noexcept;
   void shade_sample(Scratch& s) noexcept;
   void add_aovs(const Scratch& s, std::uint32_t row, int sample) const noexcept;
   LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
+  LinearRgb sea_from_above(const Scratch& s, const detail::SeaLightInput& in, std::size_t i,
+                           RenderCounters& c) const noexcept;
   /// The sky's radiance along pixel i's direction in air (shade_sample's air_directions).
   LinearRgb sky_radiance(const Scratch& s, std::size_t i) const noexcept {
     return LinearRgb{s.a[Scratch::sky_r][i], s.a[Scratch::sky_g][i], s.a[Scratch::sky_b][i]} * sky_scale;
@@ -366,53 +371,38 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     if (!camera_under) return lit_in_air(h, p, d, albedo(s, i, h));
     return through_water(lit_in_water(h, p, d, albedo(s, i, h)), h.t, sun_path_in_water(p), sea_illumination);
   }
+  // From below (a sea hit seen from above is lit by sea_light, sea_from_above).
   ++c.sea;
   const float t = s.a[Scratch::t][i];
   const Vec3 p{s.a[Scratch::hx][i], s.a[Scratch::hy][i], s.a[Scratch::hz][i]};
-  const Vec3 n{s.a[Scratch::nx][i], s.a[Scratch::ny][i], s.a[Scratch::nz][i]};
   const float kr = s.a[Scratch::kr][i];
   // The ray that leaves into air, kept above the horizon (shade_sample).
   const Vec3 air{s.a[Scratch::ax][i], s.a[Scratch::ay][i], s.a[Scratch::az][i]};
   const SurfaceHit& under = s.under[i];
-  if (status == MarchStatus::hit) {
-    const bool lit = s.a[Scratch::lit][i] > 0.0f;
-    const LinearRgb reflected = from_air(s.air[i], p, air, t, sky_radiance(s, i));
-    const LinearRgb transmitted = kr < 1.0f ? LinearRgb{s.a[Scratch::under_r][i], s.a[Scratch::under_g][i], s.a[Scratch::under_b][i]}
-                                            : LinearRgb{};
-    // The sun's glint, widened by the slope variance of the octaves and trains the LOD left out at
-    // this pixel (docs/rendering.md 5.4, 5.5).
-    float glint = 0.0f;
-    const Vec3 v{-d[0], -d[1], -d[2]};
-    const float rough = s.a[Scratch::rough][i];
-    // Skip the lobe where it is below e^-30 of its peak (tan^2 / 2 sigma^2 > 30): most of the sea. The
-    // test widens with the variance, so it is asked first with the most the LOD can leave out
-    // (dropped_max): most pixels then skip the sum over the octaves too. With the half vector h = v + sun
-    // unnormalised, cos^2 = (n.h)^2 / h.h: the test multiplied through by h.h needs no square root.
-    const Vec3 half{v[0] + sun[0], v[1] + sun[1], v[2] + sun[2]};
-    const float nh = dot(n, half), hh = dot(half, half);
-    const auto in_lobe = [nh, hh](float variance) {
-      return nh > 0.0f && (hh - nh * nh) < 60.0f * (variance + sun_disc_slope_variance) * nh * nh;
-    };
-    if (lit && in_lobe(dropped_max + rough)) {
-      const float variance = (noise != nullptr ? dropped(s.a[Scratch::level][i]) : 0.0f) + rough;
-      if (in_lobe(variance)) glint = pi * sun_glint(n, v, sun, variance);
-    }
-    const LinearRgb surface_light = reflected * kr + transmitted * (1.0f - kr) + sun_rgb * glint;
-    if (surf.nx == 0) return surface_light;
-    const float cover = s.a[Scratch::foam][i];
-    if (!(cover > 0.0f)) return surface_light;
-    // Foam is a white diffuse layer on the water, lit like an object's face along the normal.
-    constexpr float foam_albedo = 0.85f;
-    const float cos_sun = dot(n, sun);
-    const LinearRgb foam =
-        (ambient * (0.5f * (1.0f + n[2])) + (lit && cos_sun > 0.0f ? sun_rgb * cos_sun : LinearRgb{})) * foam_albedo;
-    return surface_light * (1.0f - cover) + foam * cover;
-  }
-  // From below: the interface sent r back down into the sea and tr (outside Snell's window: none) up.
+  // The interface sent r back down into the sea and tr (outside Snell's window: none) up.
   const Vec3 r{s.a[Scratch::rx][i], s.a[Scratch::ry][i], s.a[Scratch::rz][i]};
   const LinearRgb reflected = through_water_to(under, albedo(s, i, under), p, r, sea_illumination);
   const LinearRgb transmitted = kr < 1.0f ? from_air(s.air[i], p, air, t, sky_radiance(s, i)) : LinearRgb{};
   return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
+}
+
+/// A sea hit seen from above: sea_light's light, relit with the sun's glint where the glint's lobe,
+/// widened by the slope variance of the octaves and trains the LOD left out at this pixel
+/// (docs/rendering.md 5.4, 5.5), reaches the camera. The lobe is tested first with the most the LOD can
+/// leave out (sea_light's glint_lobe): most pixels then skip the sum over the octaves too.
+LinearRgb Renderer::Impl::sea_from_above(const Scratch& s, const detail::SeaLightInput& in, std::size_t i,
+                                         RenderCounters& c) const noexcept {
+  ++c.sea;
+  float* const* a = s.a;
+  if (!(a[Scratch::glint_lobe][i] > 0.0f)) return {a[Scratch::light_r][i], a[Scratch::light_g][i], a[Scratch::light_b][i]};
+  const float variance = (noise != nullptr ? dropped(a[Scratch::level][i]) : 0.0f) + a[Scratch::rough][i];
+  if (!detail::glint_lobe_at(sea_light, in, i, variance)) {
+    return {a[Scratch::light_r][i], a[Scratch::light_g][i], a[Scratch::light_b][i]};
+  }
+  const Vec3 n{a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]};
+  const Vec3 v{-a[Scratch::dx][i], -a[Scratch::dy][i], -a[Scratch::dz][i]};
+  const std::array<float, 3> light = detail::sea_light_at(sea_light, in, i, pi * sun_glint(n, v, sun, variance));
+  return {light[0], light[1], light[2]};
 }
 
 /// Packs pixel i's ray from p, moved off the surface by `offset` along offset_normal, along d as the
@@ -512,6 +502,18 @@ void Renderer::Impl::find_air_hits(Scratch& s) const noexcept {
   }
   std::fill(s.air.begin(), s.air.end(), SurfaceHit{});
   nearest_hits(s, rays, s.air.data());
+  // What they meet lit, for sea_light (the sky it looks up itself).
+  std::fill_n(a[Scratch::air_hit], width, 0.0f);
+  for (std::size_t k = 0; k < rays; ++k) {
+    const std::size_t i = s.ray_pixel[k];
+    if (!(a[Scratch::side][i] > 0.0f) || s.air[i].kind == HitKind::none) continue;
+    const LinearRgb c = from_air(s.air[i], {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]},
+                                 {a[Scratch::ax][i], a[Scratch::ay][i], a[Scratch::az][i]}, a[Scratch::t][i], LinearRgb{});
+    a[Scratch::air_hit][i] = 1.0f;
+    a[Scratch::reflected_r][i] = c.r;
+    a[Scratch::reflected_g][i] = c.g;
+    a[Scratch::reflected_b][i] = c.b;
+  }
 }
 
 /// For each sea hit seen from above, whether the sun reaches it (s.lit) and the light its refracted ray
@@ -602,9 +604,19 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
                         w, {a[Scratch::sand_r], a[Scratch::sand_g], a[Scratch::sand_b]});
     light_under_water(s);
   }
+  const detail::SeaLightInput light{a[Scratch::side], a[Scratch::kr], a[Scratch::sky_r], a[Scratch::sky_g],
+                                    a[Scratch::sky_b], a[Scratch::air_hit], a[Scratch::reflected_r],
+                                    a[Scratch::reflected_g], a[Scratch::reflected_b], a[Scratch::under_r],
+                                    a[Scratch::under_g], a[Scratch::under_b], a[Scratch::lit], a[Scratch::nx],
+                                    a[Scratch::ny], a[Scratch::nz], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz],
+                                    a[Scratch::rough], surf.nx != 0 ? a[Scratch::foam] : nullptr};
+  const bool shaded = view == RenderView::shaded;
+  if (shaded) {
+    detail::sea_light(sea_light, light, w, {a[Scratch::light_r], a[Scratch::light_g], a[Scratch::light_b], a[Scratch::glint_lobe]});
+  }
   float* acc = s.accumulated.data();
   for (std::size_t i = 0; i < w; ++i) {
-    LinearRgb c = shade_primary(s, i, s.counters);
+    LinearRgb c = shaded && a[Scratch::side][i] > 0.0f ? sea_from_above(s, light, i, s.counters) : shade_primary(s, i, s.counters);
     if (!finite(c)) {
       ++s.counters.nonfinite;
       c = {};
@@ -898,6 +910,8 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   const CapillaryParams* params = r.noise == nullptr ? nullptr : noise_params != nullptr ? noise_params : &noise->params;
   r.dropped = params != nullptr ? DroppedSlopeVariance(*params) : DroppedSlopeVariance();
   r.dropped_max = r.noise != nullptr ? float(double(r.dropped.octave_variance) * r.dropped.octaves) : 0.0f;
+  r.sea_light = {{r.sky_scale.r, r.sky_scale.g, r.sky_scale.b}, {r.sun_rgb.r, r.sun_rgb.g, r.sun_rgb.b},
+                 {r.ambient.r, r.ambient.g, r.ambient.b}, {r.sun[0], r.sun[1], r.sun[2]}, r.dropped_max};
   r.camera = camera;
   r.out = &out;
   r.view = view;
