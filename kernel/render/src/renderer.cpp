@@ -460,14 +460,18 @@ void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
     return a[Scratch::side][i] > 0.0f ? Vec3{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]}
                                       : Vec3{a[Scratch::rx][i], a[Scratch::ry][i], a[Scratch::rz][i]};
   };
+  // s.under is read at sea hits only: those without a ray meet nothing, nearest_hits sets the others.
   std::size_t rays = 0;
   for (std::size_t i = 0; i < width; ++i) {
     const float side = a[Scratch::side][i];
-    if (side == 0.0f || (side > 0.0f && !(a[Scratch::kr][i] < 1.0f))) continue;
+    if (side == 0.0f) continue;
+    if (side > 0.0f && !(a[Scratch::kr][i] < 1.0f)) {
+      s.under[i] = SurfaceHit{};
+      continue;
+    }
     pack_ray(s, rays++, i, hit_point(i), {-a[Scratch::nx][i], -a[Scratch::ny][i], -a[Scratch::nz][i]},
              1e-3f + 1e-4f * a[Scratch::t][i], direction(i), std::min(underwater_reach, max_distance));
   }
-  std::fill(s.under.begin(), s.under.end(), SurfaceHit{});
   nearest_hits(s, rays, s.under.data());
   for (std::size_t i = 0; i < width; ++i) {
     const float side = a[Scratch::side][i];
@@ -490,17 +494,19 @@ void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
 /// nothing (the sky) without.
 void Renderer::Impl::find_air_hits(Scratch& s) const noexcept {
   float* const* a = s.a;
+  // s.air is read at sea hits only: those without a ray meet nothing, nearest_hits sets the others.
   std::size_t rays = 0;
-  if (quality.reflect_objects) {
-    for (std::size_t i = 0; i < width; ++i) {
-      const float side = a[Scratch::side][i];
-      if (side == 0.0f || (side < 0.0f && !(a[Scratch::kr][i] < 1.0f))) continue;
-      pack_ray(s, rays++, i, {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]},
-               {a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]}, 1e-3f + 1e-4f * a[Scratch::t][i],
-               {a[Scratch::ax][i], a[Scratch::ay][i], a[Scratch::az][i]}, max_distance);
+  for (std::size_t i = 0; i < width; ++i) {
+    const float side = a[Scratch::side][i];
+    if (side == 0.0f) continue;
+    if (!quality.reflect_objects || (side < 0.0f && !(a[Scratch::kr][i] < 1.0f))) {
+      s.air[i] = SurfaceHit{};
+      continue;
     }
+    pack_ray(s, rays++, i, {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]},
+             {a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]}, 1e-3f + 1e-4f * a[Scratch::t][i],
+             {a[Scratch::ax][i], a[Scratch::ay][i], a[Scratch::az][i]}, max_distance);
   }
-  std::fill(s.air.begin(), s.air.end(), SurfaceHit{});
   nearest_hits(s, rays, s.air.data());
   // What they meet lit, for sea_light (the sky it looks up itself).
   std::fill_n(a[Scratch::air_hit], width, 0.0f);
@@ -522,9 +528,11 @@ void Renderer::Impl::find_air_hits(Scratch& s) const noexcept {
 void Renderer::Impl::light_under_water(Scratch& s) const noexcept {
   float* const* a = s.a;
   std::size_t first = width, end = 0;  // the pixels whose refracted ray meets something
+  for (int array : {Scratch::seen_r, Scratch::seen_g, Scratch::seen_b, Scratch::seen_t, Scratch::seen_path,
+                    Scratch::seen_illumination}) {
+    std::fill_n(a[array], width, 0.0f);
+  }
   for (std::size_t i = 0; i < width; ++i) {
-    a[Scratch::seen_r][i] = a[Scratch::seen_g][i] = a[Scratch::seen_b][i] = 0.0f;
-    a[Scratch::seen_t][i] = a[Scratch::seen_path][i] = a[Scratch::seen_illumination][i] = 0.0f;
     if (!(a[Scratch::side][i] > 0.0f)) continue;
     const Vec3 p{a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]};
     const Vec3 n{a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]};
@@ -679,6 +687,12 @@ void Renderer::Impl::primary_hits(Scratch& s, std::size_t memo_row) noexcept {
   float* const kept_t_max = kept ? memo_t_max.data() + memo_row : nullptr;
   std::uint8_t* const kept_movers = kept ? memo_movers.data() + memo_row : nullptr;
   std::size_t rays = 0;
+  // A still camera without movers keeps every hit: the row's t_max is the memo's.
+  if (kept && !memo_refill && !movers) {
+    std::copy_n(kept_t_max, width, a[Scratch::t_max]);
+    s.counters.reused += width;
+    return;
+  }
   for (std::size_t i = 0; i < width; ++i) {
     const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
     // Past the cut a ray from above has crossed the sea: its floor and objects there are not seen.
