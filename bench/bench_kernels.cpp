@@ -1,7 +1,8 @@
 // Per-sample kernels on every supported ISA, so one run shows the SIMD speed-up side by side:
 // Gerstner height + gradient, capillary noise (height + gradient, and height only) at every
-// octave, i.e. the cost of a sample near the camera where the LOD keeps all of them, and two of the
-// shading's table lookups: the sky along a direction, the water's colour along a path (eq. 12).
+// octave, i.e. the cost of a sample near the camera where the LOD keeps all of them, two of the
+// shading's table lookups (the sky along a direction, the water's colour along a path, eq. 12) and the
+// light of a sea hit seen from above.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "houle/surface/capillary.hpp"
 #include "houle/surface/gerstner.hpp"
 #include "houle/runtime/isa.hpp"
+#include "sea_light.hpp"
 
 namespace {
 
@@ -100,6 +102,41 @@ void bm_water_mix(benchmark::State& state, houle::Isa isa) {
   count_samples(state, n);
 }
 
+// 1003 sea hits seen from above, a third under foam, a fifth whose reflection meets an object, some
+// in the glint's lobe.
+void bm_sea_light(benchmark::State& state, houle::Isa isa) {
+  const houle::detail::SeaLightParams p{{2.0f, 3.0f, 4.0f}, {5.0f, 6.0f, 7.0f}, {0.5f, 0.25f, 0.125f},
+                                        {0.8660254f, 0.0f, 0.5f}, 1e-3f};
+  const std::size_t n = 1003;
+  std::vector<std::vector<float>> f(21, std::vector<float>(n));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (auto& v : f) v[i] = u(rng);
+    f[0][i] = 1.0f;                           // side: from above
+    f[1][i] = 0.02f + 0.3f * u(rng);          // kr
+    f[5][i] = i % 5 == 0 ? 1.0f : 0.0f;       // air_hit
+    f[12][i] = 1.0f;                          // lit
+    f[13][i] = 0.05f * (u(rng) - 0.5f), f[14][i] = 0.05f * (u(rng) - 0.5f), f[15][i] = 1.0f;  // normal
+    const float a = 0.2f + 1.0f * u(rng);
+    f[16][i] = std::cos(a), f[17][i] = 0.0f, f[18][i] = -std::sin(a);  // the ray, towards the sun
+    f[19][i] = i % 3 == 0 ? u(rng) : 0.0f;    // foam
+    f[20][i] = 0.005f * u(rng);               // rough
+  }
+  const houle::detail::SeaLightInput in{f[0].data(),  f[1].data(),  f[2].data(),  f[3].data(),  f[4].data(),
+                                        f[5].data(),  f[6].data(),  f[7].data(),  f[8].data(),  f[9].data(),
+                                        f[10].data(), f[11].data(), f[12].data(), f[13].data(), f[14].data(),
+                                        f[15].data(), f[16].data(), f[17].data(), f[18].data(), f[20].data(),
+                                        f[19].data()};
+  std::vector<float> r(n), g(n), b(n), lobe(n);
+  for (auto _ : state) {
+    houle::detail::sea_light(isa, p, in, n, {r.data(), g.data(), b.data(), lobe.data()});
+    benchmark::DoNotOptimize(r.data());
+    benchmark::ClobberMemory();
+  }
+  count_samples(state, n);
+}
+
 const bool registered = [] {
   for (houle::Isa isa : houle::supported_isas()) {
     const std::string name(houle::isa_name(isa));
@@ -113,6 +150,7 @@ const bool registered = [] {
         ->Arg(6);
     benchmark::RegisterBenchmark(("sky_lookup/" + name).c_str(), bm_sky, isa);
     benchmark::RegisterBenchmark(("water_mix/" + name).c_str(), bm_water_mix, isa);
+    benchmark::RegisterBenchmark(("sea_light/" + name).c_str(), bm_sea_light, isa);
   }
   return true;
 }();
