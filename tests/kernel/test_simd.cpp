@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "houle/simd/simd.hpp"
@@ -43,6 +44,20 @@ TEST(Simd, SinCosWithin1p2e7OfDouble) {
   houle::simd::sincos(0.0f, s, c);
   EXPECT_EQ(s, 0.0f);
   EXPECT_EQ(c, 1.0f);
+}
+
+TEST(Simd, SinCosReducedIsSinCosBitForBitBelowPiOver4) {
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(-0.78f, 0.78f);
+  int mismatches = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const float x = i == 0 ? 0.0f : i == 1 ? -0.0f : i == 2 ? 0.7799999f : i == 3 ? -0.7799999f : u(rng);
+    float s, c, rs, rc;
+    houle::simd::sincos(x, s, c);
+    houle::simd::sincos_reduced(x, rs, rc);
+    mismatches += std::memcmp(&s, &rs, sizeof s) != 0 || std::memcmp(&c, &rc, sizeof c) != 0;
+  }
+  EXPECT_EQ(mismatches, 0);
 }
 
 }  // namespace

@@ -207,8 +207,13 @@ inline HeightFieldPoint<A> train_grid_point(const TrainGridFrame& f, simd::vfloa
     // w = B e^{i theta}; its derivative along an axis: e^{i theta} dB + i k w.
     const V w_re = l.b_re * c - l.b_im * s, w_im = l.b_re * s + l.b_im * c;
     const V delta = l.fold * w_re + l.lean * w_im;
+    // The shape's phase shift is small but for the steepest waves: then the reduction can be skipped.
     V sd, cd;
-    simd::sincos(delta, sd, cd);
+    if (simd::all(simd::abs(delta) < 0.78f)) {
+      simd::sincos_reduced(delta, sd, cd);
+    } else {
+      simd::sincos(delta, sd, cd);
+    }
     const V slope = w_im * sd + w_re * cd;  // -d h / d delta
     const auto derivative = [&](V db_re, V db_im, V k) {
       const V dw_re = (db_re * c - db_im * s) - k * w_im, dw_im = (db_re * s + db_im * c) + k * w_re;
