@@ -107,14 +107,16 @@ int cmd_bench(std::span<char* const> argv) {
 
 Renders N frames (default 100) of SCENE (the built-in coast without one) after N warm-up frames
 (default 5), without writing them, and reports the frame time's median, p90, p99 and maximum, with
-the per-stage split (surface retessellation, noise, march, intersect, shade), the scene build time and
-the share of primary rays whose object and floor hit was kept from the frame before (a still camera).
+the per-stage split (surface retessellation, noise, march, intersect, shade), the scene build time, the
+share of primary rays whose object and floor hit was kept from the frame before (a still camera) and
+how busy the render threads were (their mean busy time over the render's wall time: the rest is its
+setup and the wait for the last row).
 --threads N: render threads (default: the machine's hardware threads).
 
   --json              the report as JSON on standard output, schema 1 (README, "houle bench --json"):
                       {"schema": 1, "context": {houle_version, isa, threads, host_cpu, date, scene,
-                      size, quality, frames, warmup}, "build_ms", "primary_reused", "stages_ms": {STAGE:
-                      {median, p90, p99, max}}}
+                      size, quality, frames, warmup}, "build_ms", "primary_reused", "render_busy",
+                      "stages_ms": {STAGE: {median, p90, p99, max}}}
   --gbench-json FILE  also writes Google Benchmark's JSON format to FILE, for its tools/compare.py:
                       per stage (SCENE/WxH/QUALITY/STAGE) every frame as a repetition, then mean,
                       median and stddev, in ms (cpu_time = real_time: houle times wall clock))");
@@ -158,7 +160,7 @@ the share of primary rays whose object and floor hit was kept from the frame bef
   }
   warn_if_truncated("bench", run->name, anim.value().waves());
   Framebuffer fb(width, height);
-  std::vector<double> total, surface, noise, march, intersect, shade;
+  std::vector<double> total, surface, noise, march, intersect, shade, busy;
   std::uint64_t samples = 0, reused = 0;
   for (long n = 0; n < warmup + frames; ++n) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -172,6 +174,8 @@ the share of primary rays whose object and floor hit was kept from the frame bef
     march.push_back(t.render.march_ms);
     intersect.push_back(t.render.intersect_ms);
     shade.push_back(t.render.shade_ms);
+    // The stages are the render threads' mean busy times.
+    busy.push_back(t.render.total_ms > 0.0 ? (t.render.march_ms + t.render.intersect_ms + t.render.shade_ms) / t.render.total_ms : 0.0);
     const RenderCounters& c = anim->renderer().last_counters();
     samples += c.sea + c.object + c.sky;
     reused += c.reused;
@@ -181,6 +185,7 @@ the share of primary rays whose object and floor hit was kept from the frame bef
       {"march", distribution(march)},   {"intersect", distribution(intersect)}, {"shade", distribution(shade)}};
   const char* isa = isa_name(active_isa()).data();
   const double share = samples > 0 ? double(reused) / double(samples) : 0.0;
+  const double render_busy = distribution(busy).median;
   // The context both JSON forms carry.
   char context[1024];
   std::snprintf(context, sizeof context,
@@ -205,8 +210,9 @@ the share of primary rays whose object and floor hit was kept from the frame bef
     }
   }
   if (json) {
-    std::printf("{\"schema\": 1, \"context\": %s, \"build_ms\": %.3f, \"primary_reused\": %.4f, \"stages_ms\": {", context,
-                anim->build_ms(), share);
+    std::printf("{\"schema\": 1, \"context\": %s, \"build_ms\": %.3f, \"primary_reused\": %.4f, \"render_busy\": %.4f, "
+                "\"stages_ms\": {",
+                context, anim->build_ms(), share, render_busy);
     for (std::size_t i = 0; i < std::size(rows); ++i) {
       const Distribution& d = rows[i].second;
       std::printf("%s\"%s\": {\"median\": %.3f, \"p90\": %.3f, \"p99\": %.3f, \"max\": %.3f}", i ? ", " : "", rows[i].first,
@@ -220,6 +226,7 @@ the share of primary rays whose object and floor hit was kept from the frame bef
     std::printf("%-10s %9s %9s %9s %9s   (ms)\n", "stage", "median", "p90", "p99", "max");
     for (const auto& [name, d] : rows) std::printf("%-10s %9.2f %9.2f %9.2f %9.2f\n", name, d.median, d.p90, d.p99, d.max);
     std::printf("primary object and floor hits kept from the frame before: %.1f %%\n", 100.0 * share);
+    std::printf("render threads busy: %.1f %% of the render's wall time (median)\n", 100.0 * render_busy);
   }
   return 0;
 }

@@ -184,7 +184,7 @@ assert re.fullmatch(r"\d+\.\d+\.\d+", c["houle_version"]) and c["isa"] and c["ho
 assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", c["date"]), c["date"]
 assert c["threads"] == int(sys.argv[2]) and c["scene"] == "built-in coast" and c["size"] == [32, 18]
 assert c["quality"] == "draft" and c["frames"] == 3 and c["warmup"] == 1
-assert d["build_ms"] > 0 and 0 <= d["primary_reused"] <= 1
+assert d["build_ms"] > 0 and 0 <= d["primary_reused"] <= 1 and 0 < d["render_busy"] <= 1
 assert list(d["stages_ms"]) == ["frame", "surface", "noise", "march", "intersect", "shade"]
 assert all(set(s) == {"median", "p90", "p99", "max"} and s["median"] <= s["p90"] <= s["p99"] <= s["max"] for s in d["stages_ms"].values())
 PY
