@@ -1,5 +1,5 @@
-// The light of sea hits seen from above (kernel/render/src/sea_light.hpp): what it adds up, and every
-// ISA against the scalar path.
+// The light of sea hits seen from above and their glint (kernel/render/src/sea_light.hpp): what they
+// add up, and every ISA against the scalar path.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "houle/render/sky.hpp"
 #include "houle/runtime/isa.hpp"
 #include "sea_light.hpp"
 #include "ulp.hpp"
@@ -99,12 +100,17 @@ TEST(SeaLight, TheGlintLobeIsFlaggedWhereTheMirrorDirectionMeetsTheSunAndTheSeaI
   const SeaLightInput in = row.input();
   EXPECT_TRUE(houle::detail::glint_lobe_at(lighting, in, 0, 0.0f));
   EXPECT_FALSE(houle::detail::glint_lobe_at(lighting, in, 2, 0.01f));
-  // The glint is added before the foam; with none, the batch's bits.
-  const auto with_glint = houle::detail::sea_light_at(lighting, in, 0, 2.0f);
-  EXPECT_FLOAT_EQ(with_glint[0], l.r[0] + 5.0f * 2.0f);
-  const auto without = houle::detail::sea_light_at(lighting, in, 0, 0.0f);
-  EXPECT_EQ(without[0], l.r[0]);
-  EXPECT_EQ(without[2], l.b[0]);
+  // sea_glint adds pi sun_glint (sky.hpp) where the lobe is flagged, and leaves the others.
+  Lit g = l;
+  const std::vector<float> variance(3, 0.002f);
+  g.lobe = {1.0f, 0.0f, 0.0f};
+  houle::detail::sea_glint(houle::Isa::scalar, lighting, in, variance.data(), 3, {g.r.data(), g.g.data(), g.b.data(), g.lobe.data()});
+  const float glint = 3.14159265f * houle::sun_glint({0.0f, 0.0f, 1.0f}, {-0.8660254f, 0.0f, 0.5f}, {0.8660254f, 0.0f, 0.5f}, 0.002f);
+  EXPECT_GT(glint, 1.0f);
+  EXPECT_FLOAT_EQ(g.r[0], l.r[0] + 5.0f * glint);
+  EXPECT_FLOAT_EQ(g.b[0], l.b[0] + 7.0f * glint);
+  EXPECT_EQ(g.r[1], l.r[1]);
+  EXPECT_EQ(g.r[2], l.r[2]);
 }
 
 TEST(SeaLight, EveryIsaMatchesScalarIncludingTails) {
@@ -132,7 +138,13 @@ TEST(SeaLight, EveryIsaMatchesScalarIncludingTails) {
         row.f[dx][k] = std::cos(a) * std::cos(b), row.f[dy][k] = std::cos(a) * std::sin(b), row.f[dz][k] = -std::sin(a);
         row.f[rough][k] = 0.005f * u(rng);
       }
-      const Lit ref = light_of(lighting, row), got = light_of(lighting, row, isa);
+      Lit ref = light_of(lighting, row), got = light_of(lighting, row, isa);
+      // Then the glint where the lobe is flagged, at a variance of the pixel's own.
+      std::vector<float> variance(n);
+      for (std::size_t k = 0; k < n; ++k) variance[k] = row.f[rough][k] + 0.001f * u(rng);
+      houle::detail::sea_glint(houle::Isa::scalar, lighting, row.input(), variance.data(), n,
+                               {ref.r.data(), ref.g.data(), ref.b.data(), ref.lobe.data()});
+      houle::detail::sea_glint(isa, lighting, row.input(), variance.data(), n, {got.r.data(), got.g.data(), got.b.data(), got.lobe.data()});
       for (std::size_t k = 0; k < n; ++k) {
         EXPECT_EQ(got.lobe[k], ref.lobe[k]) << k;
         if (!(row.f[side][k] > 0.0f)) continue;

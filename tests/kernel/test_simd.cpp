@@ -1,10 +1,12 @@
 // The SIMD layer's own math against double precision, and the ulp comparator the ISA tests rely on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
 
+#include "houle/simd/exp.hpp"
 #include "houle/simd/simd.hpp"
 #include "ulp.hpp"
 
@@ -44,6 +46,20 @@ TEST(Simd, SinCosWithin1p2e7OfDouble) {
   houle::simd::sincos(0.0f, s, c);
   EXPECT_EQ(s, 0.0f);
   EXPECT_EQ(c, 1.0f);
+}
+
+TEST(Simd, ExpWithin2e7RelativeOfDouble) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-87.0f, 88.0f), near(-30.0f, 0.0f);
+  double worst = 0.0;
+  for (int i = 0; i < 200000; ++i) {
+    const float x = i % 2 ? u(rng) : near(rng);  // near: the glint's range
+    const double want = std::exp(double(x));
+    worst = std::max(worst, std::fabs(double(houle::simd::exp(x)) - want) / want);
+  }
+  EXPECT_LE(worst, 2e-7);
+  EXPECT_EQ(houle::simd::exp(0.0f), 1.0f);
+  EXPECT_EQ(houle::simd::exp(-1000.0f), houle::simd::exp(-87.0f));  // clamped, not 0 or denormal
 }
 
 TEST(Simd, SinCosReducedIsSinCosBitForBitBelowPiOver4) {

@@ -22,6 +22,7 @@ struct RenderTable {
   void (*water_mix_batch)(const WaterTable&, const WaterMixInput&, std::size_t, WaterMixOutput) noexcept;
   void (*sand_albedo_batch)(const LinearRgb&, const SandInput&, std::size_t, SandOutput) noexcept;
   void (*sea_light_batch)(const SeaLightParams&, const SeaLightInput&, std::size_t, SeaLightOutput) noexcept;
+  void (*sea_glint_batch)(const SeaLightParams&, const SeaLightInput&, const float*, std::size_t, SeaLightOutput) noexcept;
   void (*floor_hits_batch)(const FloorGridView&, const ObjectBounds&, const FloorRays&, std::size_t, FloorHits) noexcept;
 };
 

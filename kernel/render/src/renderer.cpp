@@ -30,8 +30,6 @@ using detail::HitKind;
 using detail::SceneRay;
 using detail::SurfaceHit;
 
-constexpr float pi = std::numbers::pi_v<float>;
-
 // Fixed sub-pixel positions (pixel units from the pixel's corner): deterministic, so identical frames
 // give identical bytes. 4: the rotated grid; 8: Direct3D's standard 8x pattern.
 struct Offset {
@@ -133,7 +131,7 @@ struct alignas(64) Scratch {
     dx, dy, dz, ox, oy, oz, t_max, t, hx, hy, hz, gx, gy, level, rough, side, nx, ny, nz, rx, ry, rz, tx, ty, tz, kr,
     ax, ay, az, sky_r, sky_g, sky_b, foam, on_sand, qx, qy, qz, footprint, sand_r, sand_g, sand_b, lit,
     seen_r, seen_g, seen_b, seen_t, seen_path, seen_illumination, under_r, under_g, under_b,
-    air_hit, reflected_r, reflected_g, reflected_b, light_r, light_g, light_b, glint_lobe,
+    air_hit, reflected_r, reflected_g, reflected_b, light_r, light_g, light_b, glint_lobe, glint_variance,
     // A row's primary or secondary rays, packed (nearest_hits): ray k is pixel ray_pixel[k]'s.
     ray_ox, ray_oy, ray_oz, ray_dx, ray_dy, ray_dz, ray_reach, hit_t, hit_nx, hit_ny, hit_nz, hit_left, hit_objects, count
   };
@@ -228,8 +226,6 @@ struct Renderer::Impl {
   void shade_sample(Scratch& s) noexcept;
   void add_aovs(const Scratch& s, std::uint32_t row, int sample) const noexcept;
   LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
-  LinearRgb sea_from_above(const Scratch& s, const detail::SeaLightInput& in, std::size_t i,
-                           RenderCounters& c) const noexcept;
   /// The sky's radiance along pixel i's direction in air (shade_sample's air_directions).
   LinearRgb sky_radiance(const Scratch& s, std::size_t i) const noexcept {
     return LinearRgb{s.a[Scratch::sky_r][i], s.a[Scratch::sky_g][i], s.a[Scratch::sky_b][i]} * sky_scale;
@@ -371,7 +367,7 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
     if (!camera_under) return lit_in_air(h, p, d, albedo(s, i, h));
     return through_water(lit_in_water(h, p, d, albedo(s, i, h)), h.t, sun_path_in_water(p), sea_illumination);
   }
-  // From below (a sea hit seen from above is lit by sea_light, sea_from_above).
+  // From below (a sea hit seen from above is lit by sea_light in shade_sample).
   ++c.sea;
   const float t = s.a[Scratch::t][i];
   const Vec3 p{s.a[Scratch::hx][i], s.a[Scratch::hy][i], s.a[Scratch::hz][i]};
@@ -384,25 +380,6 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
   const LinearRgb reflected = through_water_to(under, albedo(s, i, under), p, r, sea_illumination);
   const LinearRgb transmitted = kr < 1.0f ? from_air(s.air[i], p, air, t, sky_radiance(s, i)) : LinearRgb{};
   return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
-}
-
-/// A sea hit seen from above: sea_light's light, relit with the sun's glint where the glint's lobe,
-/// widened by the slope variance of the octaves and trains the LOD left out at this pixel
-/// (docs/rendering.md 5.4, 5.5), reaches the camera. The lobe is tested first with the most the LOD can
-/// leave out (sea_light's glint_lobe): most pixels then skip the sum over the octaves too.
-LinearRgb Renderer::Impl::sea_from_above(const Scratch& s, const detail::SeaLightInput& in, std::size_t i,
-                                         RenderCounters& c) const noexcept {
-  ++c.sea;
-  float* const* a = s.a;
-  if (!(a[Scratch::glint_lobe][i] > 0.0f)) return {a[Scratch::light_r][i], a[Scratch::light_g][i], a[Scratch::light_b][i]};
-  const float variance = (noise != nullptr ? dropped(a[Scratch::level][i]) : 0.0f) + a[Scratch::rough][i];
-  if (!detail::glint_lobe_at(sea_light, in, i, variance)) {
-    return {a[Scratch::light_r][i], a[Scratch::light_g][i], a[Scratch::light_b][i]};
-  }
-  const Vec3 n{a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]};
-  const Vec3 v{-a[Scratch::dx][i], -a[Scratch::dy][i], -a[Scratch::dz][i]};
-  const std::array<float, 3> light = detail::sea_light_at(sea_light, in, i, pi * sun_glint(n, v, sun, variance));
-  return {light[0], light[1], light[2]};
 }
 
 /// Packs pixel i's ray from p, moved off the surface by `offset` along offset_normal, along d as the
@@ -620,11 +597,29 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
                                     a[Scratch::rough], surf.nx != 0 ? a[Scratch::foam] : nullptr};
   const bool shaded = view == RenderView::shaded;
   if (shaded) {
-    detail::sea_light(sea_light, light, w, {a[Scratch::light_r], a[Scratch::light_g], a[Scratch::light_b], a[Scratch::glint_lobe]});
+    const detail::SeaLightOutput lit{a[Scratch::light_r], a[Scratch::light_g], a[Scratch::light_b], a[Scratch::glint_lobe]};
+    detail::sea_light(sea_light, light, w, lit);
+    // The sun's glint, widened by the slope variance of the octaves and trains the LOD left out at
+    // each pixel (docs/rendering.md 5.4, 5.5), where its lobe still may reach the camera: sea_light
+    // asked first with the most the LOD can leave out, so that most pixels skip the sum over the
+    // octaves too.
+    for (std::size_t i = 0; i < w; ++i) {
+      if (!(a[Scratch::glint_lobe][i] > 0.0f)) continue;
+      const float variance = (noise != nullptr ? dropped(a[Scratch::level][i]) : 0.0f) + a[Scratch::rough][i];
+      a[Scratch::glint_variance][i] = variance;
+      a[Scratch::glint_lobe][i] = detail::glint_lobe_at(sea_light, light, i, variance) ? 1.0f : 0.0f;
+    }
+    detail::sea_glint(sea_light, light, a[Scratch::glint_variance], w, lit);
   }
   float* acc = s.accumulated.data();
   for (std::size_t i = 0; i < w; ++i) {
-    LinearRgb c = shaded && a[Scratch::side][i] > 0.0f ? sea_from_above(s, light, i, s.counters) : shade_primary(s, i, s.counters);
+    LinearRgb c;
+    if (shaded && a[Scratch::side][i] > 0.0f) {  // sea_light's
+      ++s.counters.sea;
+      c = {a[Scratch::light_r][i], a[Scratch::light_g][i], a[Scratch::light_b][i]};
+    } else {
+      c = shade_primary(s, i, s.counters);
+    }
     if (!finite(c)) {
       ++s.counters.nonfinite;
       c = {};

@@ -36,13 +36,22 @@ void sea_light(Isa isa, const SeaLightParams& p, const SeaLightInput& in, std::s
   simd::table_for<RenderTable>(isa).sea_light_batch(p, in, n, out);
 }
 
-std::array<float, 3> sea_light_at(const SeaLightParams& p, const SeaLightInput& in, std::size_t i, float glint) noexcept {
-  const Rgb<simd::scalar> c = sea_light<simd::scalar>(p, lanes_at(p, in, i), glint);
-  return {c.r, c.g, c.b};
-}
-
 bool glint_lobe_at(const SeaLightParams& p, const SeaLightInput& in, std::size_t i, float variance) noexcept {
   return glint_lobe<simd::scalar>(p, lanes_at(p, in, i), variance);
+}
+
+void sea_glint(const SeaLightParams& p, const SeaLightInput& in, const float* glint_variance, std::size_t n,
+               SeaLightOutput out) noexcept {
+  check_sea_light(in, n, out);
+  HOULE_ASSERT(n == 0 || glint_variance != nullptr, "sea_glint: n floats in glint_variance");
+  simd::active_table<RenderTable>().sea_glint_batch(p, in, glint_variance, n, out);
+}
+
+void sea_glint(Isa isa, const SeaLightParams& p, const SeaLightInput& in, const float* glint_variance, std::size_t n,
+               SeaLightOutput out) noexcept {
+  check_sea_light(in, n, out);
+  HOULE_ASSERT(n == 0 || glint_variance != nullptr, "sea_glint: n floats in glint_variance");
+  simd::table_for<RenderTable>(isa).sea_glint_batch(p, in, glint_variance, n, out);
 }
 
 }  // namespace houle::detail

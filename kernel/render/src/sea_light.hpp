@@ -2,7 +2,6 @@
 // pixels a packet at a time (templates in sea_light_impl.hpp): what the rays into the air and into
 // the water bring, split by Fresnel, with the sun's glint and the surf's foam on top.
 #pragma once
-#include <array>
 #include <cstddef>
 
 #include "houle/runtime/isa.hpp"
@@ -34,19 +33,22 @@ struct SeaLightParams {
 
 /// r, g, b: the light without the glint, for every pixel lit here (the others' entries are left
 /// undefined). glint_lobe: 1 where the sun's glint lobe, as wide as dropped_max allows, may reach the
-/// camera (the renderer then works the glint out and relights that pixel with sea_light<scalar>), 0
-/// elsewhere.
+/// camera (the renderer then works out the pixel's own slope variance and, where its lobe still may,
+/// adds the glint with sea_glint), 0 elsewhere.
 struct SeaLightOutput {
   float *r, *g, *b, *glint_lobe;
 };
 
 void sea_light(const SeaLightParams& p, const SeaLightInput& in, std::size_t n, SeaLightOutput out) noexcept;
-/// Pixel i lit as sea_light lights it, with `glint` (the sun's, pi sun_glint) added before the foam:
-/// with glint 0, sea_light's bits.
-std::array<float, 3> sea_light_at(const SeaLightParams& p, const SeaLightInput& in, std::size_t i, float glint) noexcept;
 /// Whether pixel i's glint lobe for slope variance `variance` may reach the camera: beyond it the lobe
 /// is below e^-30 of its peak.
 bool glint_lobe_at(const SeaLightParams& p, const SeaLightInput& in, std::size_t i, float variance) noexcept;
+/// The pixels with out.glint_lobe[i] > 0 lit again, with the sun's glint (pi sun_glint, slope variance
+/// glint_variance[i]) added before the foam; the others are left as they are.
+void sea_glint(const SeaLightParams& p, const SeaLightInput& in, const float* glint_variance, std::size_t n,
+               SeaLightOutput out) noexcept;
+void sea_glint(Isa isa, const SeaLightParams& p, const SeaLightInput& in, const float* glint_variance, std::size_t n,
+               SeaLightOutput out) noexcept;
 /// The same on a given ISA (it must be supported): for tests and benchmarks.
 void sea_light(Isa isa, const SeaLightParams& p, const SeaLightInput& in, std::size_t n, SeaLightOutput out) noexcept;
 

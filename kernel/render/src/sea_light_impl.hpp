@@ -5,6 +5,8 @@
 #pragma once
 #include <cstddef>
 
+#include "glint_impl.hpp"
+#include "houle/render/optics.hpp"
 #include "houle/render/sky.hpp"
 #include "houle/simd/batch_loop.hpp"
 #include "houle/simd/simd.hpp"
@@ -90,6 +92,24 @@ void sea_light_batch(const SeaLightParams& p, const SeaLightInput& in, std::size
     b.store(out.b, c.b);
     const auto lobe = above & (l.lit > V(0.0f)) & glint_lobe<A>(p, l, V(p.dropped_max) + l.rough);
     b.store(out.glint_lobe, simd::select(lobe, V(1.0f), V(0.0f)));
+  });
+}
+
+template <class A>
+void sea_glint_batch(const SeaLightParams& p, const SeaLightInput& in, const float* glint_variance, std::size_t n,
+                     SeaLightOutput out) noexcept {
+  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    using V = simd::vfloat<A>;
+    const auto lobe = b.load(out.glint_lobe) > V(0.0f);
+    if (!simd::any(lobe)) return;
+    const SeaLightLanes<A> l = sea_light_lanes<A>(p, in, [&](const float* a) { return b.load(a); });
+    const V normal[3] = {l.nx, l.ny, l.nz}, view[3] = {-l.dx, -l.dy, -l.dz};
+    const V glint = V(std::numbers::pi_v<float>) *
+                    sun_glint<A>(normal, view, p.sun, b.load(glint_variance), 1.0f, water_refractive_index);
+    const Rgb<A> c = sea_light<A>(p, l, glint);
+    b.store(out.r, simd::select(lobe, c.r, b.load(out.r)));
+    b.store(out.g, simd::select(lobe, c.g, b.load(out.g)));
+    b.store(out.b, simd::select(lobe, c.b, b.load(out.b)));
   });
 }
 

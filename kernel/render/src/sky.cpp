@@ -8,6 +8,7 @@
 #include "houle/runtime/assert.hpp"
 #include "houle/simd/dispatch.hpp"
 #include "render_table.hpp"
+#include "glint_impl.hpp"
 #include "sky_impl.hpp"
 
 namespace houle {
@@ -209,39 +210,13 @@ float sun_disc_above_horizon(float sun_elevation_rad) noexcept {
 // ---- Sun ----
 
 float gaussian_slope_density(float cos_theta_h, float slope_variance) noexcept {
-  if (!(cos_theta_h > 0.0f)) return 0.0f;
-  const float c2 = cos_theta_h * cos_theta_h;
-  const float tan2 = (1.0f - c2) / c2;
-  const float s = slope_variance;
-  return std::exp(-tan2 / (2.0f * s)) / (2.0f * std::numbers::pi_v<float> * s * c2 * c2);
+  return detail::gaussian_slope_density(cos_theta_h, slope_variance);
 }
-
-namespace {
-/// Smith's Lambda for Gaussian (Beckmann) slopes of variance s per axis, seen at cosine c from the mean
-/// normal. Exact: Lambda = (e^{-a^2} / (a sqrt(pi)) - erfc(a)) / 2 with a = cot(theta) / sqrt(2 s);
-/// here Walter et al. 2007's rational fit of it (eq. 27; G1 within ~0.4 %), which needs no exp or erfc.
-float smith_lambda(float c, float s) {
-  const float a = c / std::sqrt(std::max((1.0f - c * c) * (2.0f * s), 1e-30f));
-  if (a >= 1.6f) return 0.0f;
-  return (1.0f - 1.259f * a + 0.396f * a * a) / (3.535f * a + 2.181f * a * a);
-}
-}  // namespace
 
 float sun_glint(std::array<float, 3> n, std::array<float, 3> v, std::array<float, 3> l, float slope_variance,
                 float n_outside, float n_inside) noexcept {
-  const float cos_v = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
-  const float cos_l = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
-  if (!(cos_v > 0.0f) || !(cos_l > 0.0f)) return 0.0f;
-  float h[3] = {v[0] + l[0], v[1] + l[1], v[2] + l[2]};
-  const float h_len = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
-  if (!(h_len > 0.0f)) return 0.0f;
-  for (float& c : h) c /= h_len;
-  const float cos_h = n[0] * h[0] + n[1] * h[1] + n[2] * h[2];
-  const float v_dot_h = v[0] * h[0] + v[1] * h[1] + v[2] * h[2];
-  const float s = std::max(slope_variance, 0.0f) + sun_disc_slope_variance;
-  const float d = gaussian_slope_density(cos_h, s);
-  const float shadowing = 1.0f / (1.0f + smith_lambda(cos_v, s) + smith_lambda(cos_l, s));
-  return fresnel_reflectance(v_dot_h, n_outside, n_inside) * d * shadowing / (4.0f * cos_v);
+  const float normal[3] = {n[0], n[1], n[2]}, view[3] = {v[0], v[1], v[2]}, sun[3] = {l[0], l[1], l[2]};
+  return detail::sun_glint<simd::scalar>(normal, view, sun, slope_variance, n_outside, n_inside);
 }
 
 }  // namespace houle
