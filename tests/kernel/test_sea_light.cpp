@@ -114,6 +114,9 @@ TEST(SeaLight, TheGlintLobeIsFlaggedWhereTheMirrorDirectionMeetsTheSunAndTheSeaI
 }
 
 TEST(SeaLight, EveryIsaMatchesScalarIncludingTails) {
+  // Stated tolerance: 0 ulp (+, -, *, simd::div, simd::sqrt, simd::exp), but for ARMv7 NEON, which
+  // divides and takes square roots by estimate plus Newton steps (the glint): 64 ulp.
+  const auto tolerance = [](houle::Isa isa) -> std::int64_t { return isa == houle::Isa::neon ? 64 : 0; };
   std::mt19937 rng(20261206);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (houle::Isa isa : houle::supported_isas()) {
@@ -157,8 +160,9 @@ TEST(SeaLight, EveryIsaMatchesScalarIncludingTails) {
     EXPECT_GT(lit_here, 900u);
     EXPECT_GT(lobes, 50u);  // the lobe test is exercised both ways
     EXPECT_LT(lobes + 50, lit_here);
-    EXPECT_EQ(worst, 0) << "ISA " << houle::isa_name(isa);
-    std::printf("sea_light %s vs scalar: max %lld ulp\n", houle::isa_name(isa).data(), static_cast<long long>(worst));
+    EXPECT_LE(worst, tolerance(isa)) << "ISA " << houle::isa_name(isa);
+    std::printf("sea_light and sea_glint %s vs scalar: max %lld ulp (tolerance %lld)\n", houle::isa_name(isa).data(),
+                static_cast<long long>(worst), static_cast<long long>(tolerance(isa)));
   }
 }
 
