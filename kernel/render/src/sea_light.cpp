@@ -1,5 +1,5 @@
-// The dispatched light of sea hits seen from above, and its scalar instance pixel by pixel (templates
-// in sea_light_impl.hpp).
+// The dispatched light of sea hits seen from above and their glint, and the glint lobe's test pixel by
+// pixel (templates in sea_light_impl.hpp).
 #include "sea_light.hpp"
 
 #include "houle/runtime/assert.hpp"

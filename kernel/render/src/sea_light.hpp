@@ -1,4 +1,4 @@
-// The light a sea hit seen from above sends to the camera (docs/rendering.md 3.6), for a row of
+// The light a sea hit seen from above sends to the camera (docs/rendering.md 3.1), for a row of
 // pixels a packet at a time (templates in sea_light_impl.hpp): what the rays into the air and into
 // the water bring, split by Fresnel, with the sun's glint and the surf's foam on top.
 #pragma once
@@ -47,9 +47,9 @@ bool glint_lobe_at(const SeaLightParams& p, const SeaLightInput& in, std::size_t
 /// glint_variance[i]) added before the foam; the others are left as they are.
 void sea_glint(const SeaLightParams& p, const SeaLightInput& in, const float* glint_variance, std::size_t n,
                SeaLightOutput out) noexcept;
-void sea_glint(Isa isa, const SeaLightParams& p, const SeaLightInput& in, const float* glint_variance, std::size_t n,
-               SeaLightOutput out) noexcept;
 /// The same on a given ISA (it must be supported): for tests and benchmarks.
 void sea_light(Isa isa, const SeaLightParams& p, const SeaLightInput& in, std::size_t n, SeaLightOutput out) noexcept;
+void sea_glint(Isa isa, const SeaLightParams& p, const SeaLightInput& in, const float* glint_variance, std::size_t n,
+               SeaLightOutput out) noexcept;
 
 }  // namespace houle::detail

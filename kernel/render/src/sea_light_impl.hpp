@@ -1,7 +1,7 @@
-// The light of a sea hit seen from above (sea_light.hpp), written once for every width (included by
-// render_isa.cpp and sea_light.cpp). Only +, -, * and comparisons, each written in the order of the
-// scalar expression it stands for: every SIMD path gives the scalar path's bits
-// (tests/kernel/test_sea_light.cpp).
+// The light of a sea hit seen from above and its glint (sea_light.hpp), written once for every width
+// (included by render_isa.cpp and sea_light.cpp). Only +, -, *, comparisons and, in the glint,
+// simd::div, simd::sqrt and simd::exp, each written in the order of the scalar expression it stands
+// for: every SIMD path gives the scalar path's bits (tests/kernel/test_sea_light.cpp).
 #pragma once
 #include <cstddef>
 
