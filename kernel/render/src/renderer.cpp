@@ -589,14 +589,14 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
                         w, {a[Scratch::sand_r], a[Scratch::sand_g], a[Scratch::sand_b]});
     light_under_water(s);
   }
-  const detail::SeaLightInput light{a[Scratch::side], a[Scratch::kr], a[Scratch::sky_r], a[Scratch::sky_g],
-                                    a[Scratch::sky_b], a[Scratch::air_hit], a[Scratch::reflected_r],
-                                    a[Scratch::reflected_g], a[Scratch::reflected_b], a[Scratch::under_r],
-                                    a[Scratch::under_g], a[Scratch::under_b], a[Scratch::lit], a[Scratch::nx],
-                                    a[Scratch::ny], a[Scratch::nz], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz],
-                                    a[Scratch::rough], surf.nx != 0 ? a[Scratch::foam] : nullptr};
   const bool shaded = view == RenderView::shaded;
   if (shaded) {
+    const detail::SeaLightInput light{a[Scratch::side], a[Scratch::kr], a[Scratch::sky_r], a[Scratch::sky_g],
+                                      a[Scratch::sky_b], a[Scratch::air_hit], a[Scratch::reflected_r],
+                                      a[Scratch::reflected_g], a[Scratch::reflected_b], a[Scratch::under_r],
+                                      a[Scratch::under_g], a[Scratch::under_b], a[Scratch::lit], a[Scratch::nx],
+                                      a[Scratch::ny], a[Scratch::nz], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz],
+                                      a[Scratch::rough], surf.nx != 0 ? a[Scratch::foam] : nullptr};
     const detail::SeaLightOutput lit{a[Scratch::light_r], a[Scratch::light_g], a[Scratch::light_b], a[Scratch::glint_lobe]};
     detail::sea_light(sea_light, light, w, lit);
     // The sun's glint, widened by the slope variance of the octaves and trains the LOD left out at
