@@ -212,7 +212,6 @@ struct Renderer::Impl {
   const SurfaceFrame* surface = nullptr;
   const CapillaryFrame* noise = nullptr;
   DroppedSlopeVariance dropped;  // of the noise's parameters (render()'s noise_params), for the glint
-  float dropped_max = 0.0f;      // at least dropped(level) at every level (each octave leaves out at most all its variance)
   Camera camera;
   Framebuffer* out = nullptr;
   RenderView view = RenderView::shaded;
@@ -918,9 +917,10 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   r.noise = noise != nullptr && noise->octaves > 0 ? noise : nullptr;
   const CapillaryParams* params = r.noise == nullptr ? nullptr : noise_params != nullptr ? noise_params : &noise->params;
   r.dropped = params != nullptr ? DroppedSlopeVariance(*params) : DroppedSlopeVariance();
-  r.dropped_max = r.noise != nullptr ? float(double(r.dropped.octave_variance) * r.dropped.octaves) : 0.0f;
+  // At least dropped(level) at every level: each octave leaves out at most all its variance.
+  const float dropped_max = r.noise != nullptr ? float(double(r.dropped.octave_variance) * r.dropped.octaves) : 0.0f;
   r.sea_light = {{r.sky_scale.r, r.sky_scale.g, r.sky_scale.b}, {r.sun_rgb.r, r.sun_rgb.g, r.sun_rgb.b},
-                 {r.ambient.r, r.ambient.g, r.ambient.b}, {r.sun[0], r.sun[1], r.sun[2]}, r.dropped_max};
+                 {r.ambient.r, r.ambient.g, r.ambient.b}, {r.sun[0], r.sun[1], r.sun[2]}, dropped_max};
   r.camera = camera;
   r.out = &out;
   r.view = view;

@@ -12,6 +12,7 @@
 #include "capillary_impl.hpp"
 #include "houle/surface/march.hpp"
 #include "houle/simd/batch_loop.hpp"
+#include "houle/simd/exp.hpp"
 #include "houle/simd/gather.hpp"
 #include "houle/simd/simd.hpp"
 #include "march_context.hpp"
@@ -25,14 +26,6 @@ namespace houle::detail {
 
 template <class A>
 using MarchIndex = simd::vint<A>;
-
-/// 2^l for integral l in [-126, 127], built from the exponent bits: exact.
-template <class A>
-HOULE_MARCH_INLINE simd::vfloat<A> march_pow2(simd::vfloat<A> l) {
-  const MarchIndex<A> i = simd::to_int_exact(l);
-  // A multiply, not a shift: gcc 12 warns inside the AVX-512 shift intrinsic (_mm512_undefined_epi32).
-  return simd::bitcast_to_float((i + MarchIndex<A>(127)) * MarchIndex<A>(1 << 23));
-}
 
 template <class A>
 HOULE_MARCH_INLINE simd::vfloat<A> vmin(simd::vfloat<A> a, simd::vfloat<A> b) {
@@ -147,8 +140,8 @@ HOULE_MARCH_INLINE Located<A> locate(const MarchContext& c, simd::vfloat<A> px, 
   }
   s.far = r > c.level_reach[c.levels - 1];
   s.level = level;
-  s.scale = march_pow2<A>(level);
-  s.tap = grid_tap<A>(c, px, py, s.ox, s.oy, c.inv_cell0 * march_pow2<A>(V(0.0f) - level), level * c.level_floats);
+  s.scale = simd::pow2_exact(level);
+  s.tap = grid_tap<A>(c, px, py, s.ox, s.oy, c.inv_cell0 * simd::pow2_exact(V(0.0f) - level), level * c.level_floats);
   return s;
 }
 
