@@ -97,8 +97,9 @@ inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid,
     const M candidate = walking & !(min_as_std(za, zb) > top);
     if (simd::any(candidate)) {
       const I k = cj * I(f.nx + 2) + ci;
-      const V h00 = simd::gather(f.z, k), h10 = simd::gather(f.z, k + I(1));
-      const V h01 = simd::gather(f.z, k + I(f.nx + 2)), h11 = simd::gather(f.z, k + I(f.nx + 3));
+      V h00, h10, h01, h11;
+      simd::gather_adjacent(f.z, k, h00, h10);
+      simd::gather_adjacent(f.z, k + I(f.nx + 2), h01, h11);
       // Along the ray, s = t - ta: the bilinear h = h00 + e u + f v + g u v becomes a + b s + c s^2.
       const V inv_cell(f.inv_cell);
       const V u0 = (ox + ta * dx - (V(f.origin_x) + fi * cell)) * inv_cell;

@@ -91,8 +91,9 @@ HOULE_MARCH_INLINE GridTap<A> grid_tap(const MarchContext& c, simd::vfloat<A> px
 template <class A>
 HOULE_MARCH_INLINE simd::vfloat<A> bilinear(const float* field, std::size_t stride, const GridTap<A>& t) {
   using V = simd::vfloat<A>;
-  const V h00 = simd::gather(field, t.node), h10 = simd::gather(field + 1, t.node);
-  const V h01 = simd::gather(field + stride, t.node), h11 = simd::gather(field + stride + 1, t.node);
+  V h00, h10, h01, h11;
+  simd::gather_adjacent(field, t.node, h00, h10);
+  simd::gather_adjacent(field + stride, t.node, h01, h11);
   const V a = h00 + t.fu * (h10 - h00), b = h01 + t.fu * (h11 - h01);
   return a + t.fv * (b - a);
 }

@@ -108,7 +108,10 @@ class TrainGridTap {
                 simd::gather_window(w1, o1)};
       }
     }
-    return {simd::gather(q, n00_), simd::gather(q + 1, n00_), simd::gather(q + row, n00_), simd::gather(q + row + 1, n00_)};
+    Corners c;
+    simd::gather_adjacent(q, n00_, c.q00, c.q10);
+    simd::gather_adjacent(q + row, n00_, c.q01, c.q11);
+    return c;
   }
   V lerp2(const Corners& c) const {
     const V bottom = c.q00 + (c.q10 - c.q00) * u_, top = c.q01 + (c.q11 - c.q01) * u_;

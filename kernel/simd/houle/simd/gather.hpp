@@ -73,6 +73,11 @@ inline void gather_pair(const float* pairs, std::int32_t index, float& first, fl
   first = pairs[2 * std::size_t(index)];
   second = pairs[2 * std::size_t(index) + 1];
 }
+/// (table[index], table[index + 1]) per lane (below: its batch form).
+inline void gather_adjacent(const float* table, std::int32_t index, float& first, float& second) {
+  first = table[index];
+  second = table[std::size_t(index) + 1];
+}
 inline void gather_pair(const std::int32_t* pairs, std::int32_t index, std::int32_t& first, std::int32_t& second) {
   first = pairs[2 * std::size_t(index)];
   second = pairs[2 * std::size_t(index) + 1];
@@ -184,31 +189,37 @@ inline xsimd::batch<float, A> gather_window(const float* window, xsimd::batch<st
     return gather(window, index);
   }
 }
-/// gather_pair lane by lane.
-template <class T, class A>
-inline void gather_pair_lanes(const T* pairs, xsimd::batch<std::int32_t, A> index, xsimd::batch<T, A>& first,
-                              xsimd::batch<T, A>& second) {
+namespace detail {
+/// (table[s index], table[s index + 1]) per lane, s = Scale / 4 (detail::gather_two), lane by lane.
+template <int Scale, class T, class A>
+inline void gather_two_lanes(const T* table, xsimd::batch<std::int32_t, A> index, xsimd::batch<T, A>& first,
+                             xsimd::batch<T, A>& second) {
+  static_assert(sizeof(T) == 4 && (Scale == 4 || Scale == 8));
   constexpr std::size_t W = xsimd::batch<T, A>::size;
   alignas(64) std::int32_t idx[W];
   alignas(64) T f[W], s[W];
   index.store_aligned(idx);
-  for (std::size_t l = 0; l < W; ++l) gather_pair(pairs, idx[l], f[l], s[l]);
+  for (std::size_t l = 0; l < W; ++l) {
+    const std::size_t k = std::size_t(idx[l]) * (Scale / 4);
+    f[l] = table[k];
+    s[l] = table[k + 1];
+  }
   first = xsimd::batch<T, A>::load_aligned(f);
   second = xsimd::batch<T, A>::load_aligned(s);
 }
-/// (pairs[2 index], pairs[2 index + 1]) per lane, index < 2^28: two neighbouring floats as one 64-bit
-/// element, so that AVX2 and AVX-512 fetch them with half the gathered elements of two float
-/// gathers (a gather's cost is per element, docs/design.md 10); the others load lane by lane.
-template <class A>
-inline void gather_pair(const float* pairs, xsimd::batch<std::int32_t, A> index, xsimd::batch<float, A>& first,
-                        xsimd::batch<float, A>& second) {
+/// Two neighbouring floats at table + Scale bytes x index as one 64-bit element per lane, so that AVX2
+/// and AVX-512 fetch them with half the gathered elements of two float gathers (a gather's cost is per
+/// element, docs/design.md 10); the others load lane by lane.
+template <int Scale, class A>
+inline void gather_two(const float* table, xsimd::batch<std::int32_t, A> index, xsimd::batch<float, A>& first,
+                       xsimd::batch<float, A>& second) {
 #if defined(__AVX512F__)
   if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
     // The masked forms: the plain ones' _mm512_undefined_pd trips gcc 12's -Wuninitialized.
     const __m512 a = _mm512_castpd_ps(_mm512_mask_i32gather_pd(_mm512_setzero_pd(), static_cast<__mmask8>(0xFF),
-                                                               _mm512_castsi512_si256(index), pairs, 8));
+                                                               _mm512_castsi512_si256(index), table, Scale));
     const __m512 b = _mm512_castpd_ps(_mm512_mask_i32gather_pd(_mm512_setzero_pd(), static_cast<__mmask8>(0xFF),
-                                                               _mm512_extracti64x4_epi64(index, 1), pairs, 8));
+                                                               _mm512_extracti64x4_epi64(index, 1), table, Scale));
     first = _mm512_permutex2var_ps(a, _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30), b);
     second = _mm512_permutex2var_ps(a, _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31), b);
     return;
@@ -217,10 +228,10 @@ inline void gather_pair(const float* pairs, xsimd::batch<std::int32_t, A> index,
 #if defined(__AVX2__)
   if constexpr (std::is_base_of_v<xsimd::avx2, A>) {
     // The masked form, as above (here _mm256_undefined_pd).
-    const double* p = reinterpret_cast<const double*>(pairs);
+    const double* p = reinterpret_cast<const double*>(table);
     const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-    const __m256 a = _mm256_castpd_ps(_mm256_mask_i32gather_pd(_mm256_setzero_pd(), p, _mm256_castsi256_si128(index), all, 8));
-    const __m256 b = _mm256_castpd_ps(_mm256_mask_i32gather_pd(_mm256_setzero_pd(), p, _mm256_extracti128_si256(index, 1), all, 8));
+    const __m256 a = _mm256_castpd_ps(_mm256_mask_i32gather_pd(_mm256_setzero_pd(), p, _mm256_castsi256_si128(index), all, Scale));
+    const __m256 b = _mm256_castpd_ps(_mm256_mask_i32gather_pd(_mm256_setzero_pd(), p, _mm256_extracti128_si256(index, 1), all, Scale));
     // Per 128-bit half, (a0 a2 b0 b2) and (a1 a3 b1 b3); then the halves' middle 64-bit elements swap.
     const __m256 even = _mm256_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)), odd = _mm256_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1));
     first = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(even), _MM_SHUFFLE(3, 1, 2, 0)));
@@ -228,7 +239,22 @@ inline void gather_pair(const float* pairs, xsimd::batch<std::int32_t, A> index,
     return;
   }
 #endif
-  gather_pair_lanes(pairs, index, first, second);
+  gather_two_lanes<Scale>(table, index, first, second);
+}
+}  // namespace detail
+
+/// (pairs[2 index], pairs[2 index + 1]) per lane, index < 2^28 (detail::gather_two).
+template <class A>
+inline void gather_pair(const float* pairs, xsimd::batch<std::int32_t, A> index, xsimd::batch<float, A>& first,
+                        xsimd::batch<float, A>& second) {
+  detail::gather_two<8>(pairs, index, first, second);
+}
+/// (table[index], table[index + 1]) per lane, index < 2^29 (detail::gather_two): a bilinear tap's two
+/// corners along a row.
+template <class A>
+inline void gather_adjacent(const float* table, xsimd::batch<std::int32_t, A> index, xsimd::batch<float, A>& first,
+                            xsimd::batch<float, A>& second) {
+  detail::gather_two<4>(table, index, first, second);
 }
 /// The same for int32 pairs: on AVX2 and AVX-512 the float pairs' instructions, which only move bits.
 template <class A>
@@ -243,7 +269,7 @@ inline void gather_pair(const std::int32_t* pairs, xsimd::batch<std::int32_t, A>
     return;
   }
 #endif
-  gather_pair_lanes(pairs, index, first, second);
+  detail::gather_two_lanes<8>(pairs, index, first, second);
 }
 #endif
 
