@@ -37,17 +37,27 @@ inline simd::vfloat<A> foam_cover(const SurfView& m, simd::vfloat<A> x, simd::vf
   const I i = simd::to_int_exact(fi), j = simd::to_int_exact(fj);
   const V a = us - fi, b = vs - fj;
   const I n00 = (j * I(m.nx) + i) * I(4), n01 = n00 + I(4 * m.nx);
-  // Field k (foam, dir_x, dir_y, amplitude) bilinear.
-  const auto field = [&](int k) {
-    const V f00 = simd::gather(m.nodes, n00 + I(k)), f10 = simd::gather(m.nodes, n00 + I(4 + k));
-    const V f01 = simd::gather(m.nodes, n01 + I(k)), f11 = simd::gather(m.nodes, n01 + I(4 + k));
-    const V lo = f00 + a * (f10 - f00), hi = f01 + a * (f11 - f01);
-    return lo + b * (hi - lo);
+  // Fields k and k + 1 (foam, dir_x, dir_y, amplitude) bilinear, each corner's two as one 64-bit
+  // element (docs/design.md 10).
+  const auto fields = [&](int k, V& first, V& second) {
+    V f00, g00, f10, g10, f01, g01, f11, g11;
+    simd::gather_adjacent(m.nodes, n00 + I(k), f00, g00);
+    simd::gather_adjacent(m.nodes, n00 + I(4 + k), f10, g10);
+    simd::gather_adjacent(m.nodes, n01 + I(k), f01, g01);
+    simd::gather_adjacent(m.nodes, n01 + I(4 + k), f11, g11);
+    const auto lerp2 = [&](V q00, V q10, V q01, V q11) {
+      const V lo = q00 + a * (q10 - q00), hi = q01 + a * (q11 - q01);
+      return lo + b * (hi - lo);
+    };
+    first = lerp2(f00, f10, f01, f11);
+    second = lerp2(g00, g10, g01, g11);
   };
-  const V foam = field(0);
+  V foam, dir_x;
+  fields(0, foam, dir_x);
   const auto foaming = inside & (foam > V(0.0f));
   if (!simd::any(foaming)) return V(0.0f);
-  const V dir_x = field(1), dir_y = field(2), amplitude = field(3);
+  V dir_y, amplitude;
+  fields(2, dir_y, amplitude);
   const V up = clamp_as_std(simd::div(z, max_as_std(amplitude, V(0.05f))) + V(0.3f), V(0.0f), V(1.0f));
   const V crest = up * up * (V(3.0f) - V(2.0f) * up);
   const V moving = dir_x * dir_x + dir_y * dir_y;  // 0 at a wall's toe: every crest foams

@@ -249,7 +249,7 @@ inline void gather_pair(const float* pairs, xsimd::batch<std::int32_t, A> index,
                         xsimd::batch<float, A>& second) {
   detail::gather_two<8>(pairs, index, first, second);
 }
-/// (table[index], table[index + 1]) per lane, index < 2^29 (detail::gather_two): a bilinear tap's two
+/// (table[index], table[index + 1]) per lane (detail::gather_two): a bilinear tap's two
 /// corners along a row.
 template <class A>
 inline void gather_adjacent(const float* table, xsimd::batch<std::int32_t, A> index, xsimd::batch<float, A>& first,
