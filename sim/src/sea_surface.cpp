@@ -840,7 +840,7 @@ void SeaSurface::sample(void* context, const SurfaceSamples& s) noexcept {
   HOULE_ASSERT(context != nullptr, "SeaSurface::sample: a SeaSurface as the context");
   // The frame's nodes hold only the waves their footprint resolves (docs/rendering.md 5.5).
   train_grid_eval(static_cast<const SeaSurface*>(context)->frame_, s.x, s.y, s.n, s.footprint,
-                  {s.height, s.grad_x, s.grad_y}, s.slope_variance);
+                  {s.height, s.grad_x, s.grad_y}, s.slope_variance, {s.keep, s.kept});
 }
 
 }  // namespace houle

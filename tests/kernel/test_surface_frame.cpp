@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "houle/surface/camera.hpp"
@@ -350,7 +351,7 @@ TEST(SurfaceFrame, FillInPartsEqualsTheWholeFill) {
   for (unsigned parts : {2u, 3u, SurfaceFrame::max_fill_parts}) {
     SurfaceFrame split = make_frame(cfg);
     split.begin_frame(7.0f, -3.0f);
-    split.begin_fill();
+    split.begin_fill(gerstner_sampler, const_cast<houle::GerstnerFrame*>(&waves.value()));
     for (unsigned p = parts; p-- > 0;) split.fill_part(gerstner_sampler, const_cast<houle::GerstnerFrame*>(&waves.value()), p, parts);
     for (unsigned p = parts; p-- > 0;) split.morph_part(p, parts);
     for (unsigned p = 0; p < parts; ++p) split.bound_part(p, parts);
@@ -376,6 +377,76 @@ TEST(SurfaceFrame, FillInPartsEqualsTheWholeFill) {
   }
 }
 
+/// A sampler that keeps one float per node (x / 2 + y / 4 + the cell: what a run's nodes are) and
+/// counts how each run was offered the keep.
+struct KeepProbe {
+  int off = 0, write = 0, read = 0;
+  bool mismatch = false;
+};
+void keep_probe_sampler(void* c, const houle::SurfaceSamples& s) noexcept {
+  KeepProbe& p = *static_cast<KeepProbe*>(c);
+  ++(s.keep == nullptr ? p.off : s.kept ? p.read : p.write);
+  for (std::size_t i = 0; i < s.n; ++i) {
+    const float node = 0.5f * s.x[i] + 0.25f * s.y[i] + s.footprint.cell;
+    if (s.keep != nullptr && !s.kept) s.keep[i] = node;
+    if (s.keep != nullptr && s.kept && s.keep[i] != node) p.mismatch = true;
+    s.height[i] = s.grad_x[i] = s.grad_y[i] = s.slope_variance[i] = 0.0f;
+  }
+}
+
+// keep_static: a fill offers the sampler nothing on a new layout, room to write on its second fill and
+// what it wrote, at the same nodes, from the third on; a new centre, viewer, view or context starts
+// over, and a layout that does not fit the memory keeps nothing.
+TEST(SurfaceFrame, KeepsTheStaticPartForTheFillsOfOneLayout) {
+  SurfaceFrame f = make_frame(small_config());
+  f.keep_static(1);
+  const auto cam = [](float x, float y, float z) {
+    auto c = houle::make_camera({{x, y, z}, {x + 20.0f, y + 30.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, 1.0f, 160, 90});
+    EXPECT_TRUE(c.ok());
+    return c.value();
+  };
+  KeepProbe a, b;
+  const auto fill = [&](const houle::Camera& c, KeepProbe& probe) {
+    probe = {};
+    f.begin_frame(c.position[0], c.position[1]);
+    f.restrict_to_view(c);
+    f.set_viewer(c);
+    f.fill(keep_probe_sampler, &probe);
+    EXPECT_FALSE(probe.mismatch);
+    return probe.off > 0 && probe.write == 0 && probe.read == 0   ? 'o'
+           : probe.write > 0 && probe.off == 0 && probe.read == 0 ? 'w'
+           : probe.read > 0 && probe.off == 0 && probe.write == 0 ? 'r'
+                                                                  : '?';
+  };
+  const houle::Camera still = cam(3.0f, 4.0f, 10.0f);
+  std::string modes;
+  for (int k = 0; k < 4; ++k) modes += fill(still, a);
+  modes += fill(cam(5.0f, 4.0f, 10.0f), a);  // moved
+  modes += fill(cam(5.0f, 4.0f, 10.0f), a);
+  modes += fill(cam(5.0f, 4.0f, 10.0f), a);
+  modes += fill(cam(5.0f, 4.0f, 12.0f), a);  // raised: the same centre, another viewer
+  modes += fill(cam(5.0f, 4.0f, 12.0f), b);  // another context
+  modes += fill(cam(5.0f, 4.0f, 12.0f), b);
+  modes += fill(cam(5.0f, 4.0f, 12.0f), b);
+  EXPECT_EQ(modes, "owrrowroowr");
+  // Turned round at the same point: another set of tiles.
+  auto back = houle::make_camera({{5.0f, 4.0f, 12.0f}, {-15.0f, -26.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, 1.0f, 160, 90});
+  ASSERT_TRUE(back.ok());
+  modes.clear();
+  for (int k = 0; k < 3; ++k) modes += fill(back.value(), b);
+  EXPECT_EQ(modes, "owr");
+  // Too many floats per node for max_kept_bytes: never written.
+  f.keep_static(std::size_t(1) << 20);
+  EXPECT_EQ(SurfaceFrame::kept_bytes_bound(small_config(), std::size_t(1) << 20), SurfaceFrame::max_kept_bytes);
+  modes.clear();
+  for (int k = 0; k < 3; ++k) modes += fill(still, a);
+  EXPECT_EQ(modes, "ooo");
+  f.keep_static(0);
+  modes.clear();
+  for (int k = 0; k < 3; ++k) modes += fill(still, a);
+  EXPECT_EQ(modes, "ooo");
+}
+
 // The marcher reads a cell's two nodes of a row as one pair (SurfaceFrameView::height_pairs): for every
 // cell of every filled tile, both rows' pairs hold the final (morphed) heights, after a fill restricted
 // to the view in one part or in several.
@@ -391,7 +462,7 @@ TEST(SurfaceFrame, HeightPairsHoldTheHeightsOfEveryFilledCell) {
     SurfaceFrame f = make_frame(cfg);
     f.begin_frame(3.0f, 4.0f);
     f.restrict_to_view(cam.value());
-    f.begin_fill();
+    f.begin_fill(gerstner_sampler, const_cast<houle::GerstnerFrame*>(&waves.value()));
     for (unsigned p = 0; p < parts; ++p) f.fill_part(gerstner_sampler, const_cast<houle::GerstnerFrame*>(&waves.value()), p, parts);
     for (unsigned p = 0; p < parts; ++p) f.morph_part(p, parts);
     for (unsigned p = 0; p < parts; ++p) f.bound_part(p, parts);

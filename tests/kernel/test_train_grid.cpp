@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -208,6 +210,65 @@ TEST(TrainGrid, RowsOfNodesMatchScalarOnEveryIsa) {
     EXPECT_EQ(worst, 0) << "ISA " << houle::isa_name(isa);
     std::printf("train_grid rows %s vs scalar: max %lld ulp (tolerance 0)\n", houle::isa_name(isa).data(),
                 static_cast<long long>(worst));
+  }
+}
+
+// What the fill keeps of a run (TrainGridKeep): written with the first frame's results and read back at
+// another time, both give the bits of the evaluation without it, on every ISA, for rows of nodes as the
+// frame fills them and for scattered points, with tails. A grid without nodes (the far field) is among
+// the trains: its phase's constant changes with the time too. Tolerance 0.
+TEST(TrainGrid, KeptFieldsGiveTheBitsOfTheGridsAtEveryTime) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f), coord(-30.0f, 60.0f);
+  const std::vector<std::size_t> sizes = {1, 3, 16, 8 * 2 + 3, 16 * 3 + 3, 8 * 25 + 3};
+  for (houle::Isa isa : houle::supported_isas()) {
+    int compared = 0;
+    for (int trial = 0; trial < 8; ++trial) {
+      RandomTrains r(rng, 1 + trial % 3);
+      houle::TrainGrid far = r.grids[0];
+      far.nx = far.ny = 0;
+      far.far_offset = 0.7;
+      r.grids.push_back(far);
+      const houle::TrainGrid& g = r.grids[0];
+      const houle::NodeFootprint footprint{0.25f + u(rng), trial % 4 == 0 ? 0.0f : 0.002f + 0.01f * u(rng),
+                                           g.origin_x + 5.0f * u(rng), g.origin_y + 5.0f * u(rng), 2.0f + 4.0f * u(rng)};
+      for (std::size_t n : sizes) {
+        std::vector<float> x(n), y(n);
+        const float x0 = g.origin_x + g.cell * (float(g.nx) * u(rng) - 2.0f), row_y = g.origin_y + g.cell * float(g.ny) * u(rng);
+        const float spacing = g.cell * (0.1f + 1.9f * u(rng));
+        for (std::size_t i = 0; i < n; ++i) {
+          x[i] = trial % 2 ? x0 + float(i) * spacing : coord(rng);
+          y[i] = trial % 2 ? row_y : coord(rng);
+        }
+        std::vector<float> keep((n + 15) / 16 * 16 * houle::train_grid_keep_floats(std::uint32_t(r.grids.size())));
+        for (int step = 0; step < 3; ++step) {
+          const houle::TrainGridFrame frame = frame_of(r.grids, 0.41 * trial + 1.7 * step);
+          Outputs ref(n), got(n);
+          std::vector<float> vref(n), vgot(n);
+          houle::train_grid_eval(isa, frame, x.data(), y.data(), n, footprint, ref.view(), vref.data());
+          houle::train_grid_eval(isa, frame, x.data(), y.data(), n, footprint, got.view(), vgot.data(),
+                                 {keep.data(), step > 0});
+          for (std::size_t i = 0; i < n; ++i) {
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(ref.h[i]), std::bit_cast<std::uint32_t>(got.h[i])) << step << " " << i;
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(ref.gx[i]), std::bit_cast<std::uint32_t>(got.gx[i])) << step << " " << i;
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(ref.gy[i]), std::bit_cast<std::uint32_t>(got.gy[i])) << step << " " << i;
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(vref[i]), std::bit_cast<std::uint32_t>(vgot[i])) << step << " " << i;
+          }
+          compared += int(n);
+        }
+        // Kept means read: zeroed fields (weights 0, slope variance 0) give a flat sea.
+        std::fill(keep.begin(), keep.end(), 0.0f);
+        Outputs flat(n);
+        std::vector<float> variance(n, 1.0f);
+        houle::train_grid_eval(isa, frame_of(r.grids, 0.0), x.data(), y.data(), n, footprint, flat.view(), variance.data(),
+                               {keep.data(), true});
+        for (std::size_t i = 0; i < n; ++i) {
+          ASSERT_EQ(flat.h[i], 0.0f);
+          ASSERT_EQ(variance[i], 0.0f);
+        }
+      }
+    }
+    std::printf("train_grid kept %s: %d points, the same bits\n", houle::isa_name(isa).data(), compared);
   }
 }
 

@@ -878,7 +878,7 @@ void Renderer::move_sphere(std::size_t sphere, const std::array<float, 3>& cente
 void Renderer::fill_surface(SurfaceFrame& surface, SurfaceSampler sampler, void* context) noexcept {
   HOULE_ASSERT(sampler != nullptr, "Renderer::fill_surface: a sampler");
   const unsigned parts = std::min(impl_->pool->size(), SurfaceFrame::max_fill_parts);
-  surface.begin_fill();
+  surface.begin_fill(sampler, context);
   impl_->pool->for_ranges(parts, 1, [&](std::size_t part, std::size_t, unsigned) noexcept {
     surface.fill_part(sampler, context, unsigned(part), parts);
   });

@@ -302,50 +302,139 @@ SurfaceFrameView SurfaceFrame::view() const noexcept {
 
 void SurfaceFrame::fill(SurfaceSampler sampler, void* context) noexcept {
   HOULE_ASSERT(sampler != nullptr, "SurfaceFrame::fill: a sampler");
-  begin_fill();
+  begin_fill(sampler, context);
   fill_part(sampler, context, 0, 1);
   finish_frame();
+}
+
+template <class F>
+void SurfaceFrame::for_each_run(std::uint32_t l, std::uint32_t j, F&& f) const noexcept {
+  const std::uint32_t tc = config_.tile_cells;
+  const std::uint8_t* need = needed_ + std::size_t(l) * tiles_ * tiles_;
+  // The tile rows this node row belongs to (two on a tile boundary); runs of needed tiles.
+  std::uint32_t upper, lower;
+  row_tiles(j, tc, tiles_, upper, lower);
+  const auto wanted = [&](std::uint32_t t) { return need[upper * tiles_ + t] != 0 || need[lower * tiles_ + t] != 0; };
+  for (std::uint32_t ti = 0; ti < tiles_;) {
+    if (!wanted(ti)) {
+      ++ti;
+      continue;
+    }
+    std::uint32_t end = ti + 1;
+    while (end < tiles_ && wanted(end)) ++end;
+    f(std::size_t(ti) * tc, std::size_t(end - ti) * tc + 1);
+    ti = end;
+  }
+}
+
+namespace {
+/// A run's kept floats: its nodes rounded up to 16 (SurfaceSamples::keep).
+std::size_t kept_run_floats(std::size_t count, std::size_t per_node) noexcept { return (count + 15) / 16 * 16 * per_node; }
+}  // namespace
+
+bool SurfaceFrame::same_layout(SurfaceSampler sampler, void* context) noexcept {
+  const std::size_t flags = std::size_t(config_.levels) * tiles_ * tiles_;
+  const KeepLayout now{centre_x_, centre_y_, viewer_, sampler, context};
+  const auto same_viewer = [](const NodeFootprint& a, const NodeFootprint& b) {
+    return a.cell == b.cell && a.pixel_angle == b.pixel_angle && a.eye_x == b.eye_x && a.eye_y == b.eye_y &&
+           a.eye_height == b.eye_height;
+  };
+  const KeepLayout& last = keep_layout_;
+  const bool same = keep_have_layout_ && now.centre_x == last.centre_x && now.centre_y == last.centre_y &&
+                    same_viewer(now.viewer, last.viewer) && now.sampler == last.sampler && now.context == last.context &&
+                    std::equal(needed_, needed_ + flags, keep_needed_.get());
+  if (!same) {
+    keep_layout_ = now;
+    std::copy(needed_, needed_ + flags, keep_needed_.get());
+    keep_have_layout_ = true;
+  }
+  return same;
+}
+
+void SurfaceFrame::begin_fill(SurfaceSampler sampler, void* context) noexcept {
+  morphed_ = bounded_ = false;
+  keep_mode_ = Keep::off;
+  if (keep_per_node_ == 0) return;
+  if (!same_layout(sampler, context)) {
+    keep_state_ = Kept::nothing;
+    return;
+  }
+  if (keep_state_ == Kept::written) keep_mode_ = Keep::read;
+  if (keep_state_ != Kept::nothing) return;
+  // The layout's second fill: its runs get their places, and are written if they all fit.
+  std::size_t at = 0;
+  for (std::uint32_t l = 0; l < config_.levels; ++l) {
+    for (std::uint32_t j = 0; j <= config_.cells; ++j) {
+      keep_rows_[std::size_t(l) * (config_.cells + 1) + j] = at;
+      for_each_run(l, j, [&](std::size_t, std::size_t count) { at += kept_run_floats(count, keep_per_node_); });
+    }
+  }
+  keep_state_ = at <= keep_floats_ ? Kept::written : Kept::too_large;
+  if (keep_state_ == Kept::written) keep_mode_ = Keep::write;
 }
 
 void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned part, unsigned parts) noexcept {
   HOULE_ASSERT(sampler != nullptr, "SurfaceFrame::fill_part: a sampler");
   HOULE_ASSERT(parts >= 1 && parts <= max_fill_parts && part < parts, "SurfaceFrame::fill_part: part < parts <= max_fill_parts");
-  const std::uint32_t nodes = config_.cells + 1, tc = config_.tile_cells;
+  HOULE_ASSERT(keep_mode_ == Keep::off || (sampler == keep_layout_.sampler && context == keep_layout_.context),
+               "SurfaceFrame::fill_part: begin_fill's sampler and context");
+  const std::uint32_t nodes = config_.cells + 1;
   float* row_x = row_x_ + std::size_t(part) * stride_;
   float* row_y = row_y_ + std::size_t(part) * stride_;
   // Node rows are dealt out round-robin over all levels: parts get equal shares of every level.
   std::size_t row_index = 0;
   for (std::uint32_t l = 0; l < config_.levels; ++l) {
     const SurfaceLevel& s = levels_[l];
-    const std::uint8_t* need = needed_ + std::size_t(l) * tiles_ * tiles_;
     NodeFootprint footprint = viewer_;
     footprint.cell = s.cell;
     for (std::uint32_t j = 0; j < nodes; ++j, ++row_index) {
       if (row_index % parts != part) continue;
-      // The tile rows this node row belongs to (two on a tile boundary); runs of needed tiles.
-      std::uint32_t upper, lower;
-      row_tiles(j, tc, tiles_, upper, lower);
       const float y = s.origin_y + float(j) * s.cell;
       const std::size_t o = j * stride_;
-      for (std::uint32_t ti = 0; ti < tiles_;) {
-        const auto wanted = [&](std::uint32_t t) { return need[upper * tiles_ + t] != 0 || need[lower * tiles_ + t] != 0; };
-        if (!wanted(ti)) {
-          ++ti;
-          continue;
-        }
-        std::uint32_t end = ti + 1;
-        while (end < tiles_ && wanted(end)) ++end;
-        const std::size_t i0 = std::size_t(ti) * tc, count = std::size_t(end - ti) * tc + 1;
+      float* keep = keep_mode_ == Keep::off ? nullptr : keep_.get() + keep_rows_[std::size_t(l) * nodes + j];
+      for_each_run(l, j, [&](std::size_t i0, std::size_t count) {
         // Node coordinates exactly as the marcher's grid coordinates invert them: origin + i * cell.
         for (std::size_t i = 0; i < count; ++i) row_x[i] = s.origin_x + float(i0 + i) * s.cell;
         std::fill(row_y, row_y + count, y);
         SurfaceSamples run{row_x, row_y, count, footprint, heights(l) + o + i0, grad_x(l) + o + i0, grad_y(l) + o + i0,
-                           slope_variance(l) + o + i0};
+                           slope_variance(l) + o + i0, keep, keep_mode_ == Keep::read};
         sampler(context, run);
-        ti = end;
-      }
+        if (keep != nullptr) keep += kept_run_floats(count, keep_per_node_);
+      });
     }
   }
+}
+
+std::size_t SurfaceFrame::kept_bytes_bound(const SurfaceFrameConfig& config, std::size_t floats_per_node) noexcept {
+  if (!check(config)) return 0;
+  const std::size_t nodes = config.cells + 1;
+  const std::size_t every = std::size_t(config.levels) * nodes * kept_run_floats(nodes, floats_per_node) * sizeof(float);
+  return std::min(every, max_kept_bytes);
+}
+
+void SurfaceFrame::keep_static(std::size_t floats_per_node) noexcept {
+  keep_.reset();
+  keep_rows_.reset();
+  keep_needed_.reset();
+  keep_floats_ = keep_per_node_ = 0;
+  keep_have_layout_ = false;
+  keep_state_ = Kept::nothing;
+  keep_mode_ = Keep::off;
+  if (floats_per_node == 0) return;
+  const std::size_t bytes = kept_bytes_bound(config_, floats_per_node);
+  const std::size_t rows = std::size_t(config_.levels) * (config_.cells + 1), flags = std::size_t(config_.levels) * tiles_ * tiles_;
+  // Not value-initialised: the pages a view never needs are never touched.
+  keep_.reset(new (std::nothrow) float[bytes / sizeof(float)]);
+  keep_rows_.reset(new (std::nothrow) std::size_t[rows]);
+  keep_needed_.reset(new (std::nothrow) std::uint8_t[flags]);
+  if (!keep_ || !keep_rows_ || !keep_needed_) {  // an optimisation only: without the memory, none
+    keep_.reset();
+    keep_rows_.reset();
+    keep_needed_.reset();
+    return;
+  }
+  keep_floats_ = bytes / sizeof(float);
+  keep_per_node_ = floats_per_node;
 }
 
 void SurfaceFrame::finish_frame() noexcept {

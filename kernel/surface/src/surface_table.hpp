@@ -18,7 +18,7 @@ struct SurfaceTable {
   void (*surface_column_stats)(const ColumnStatsJob&) noexcept;
   void (*train_grid_eval)(const TrainGridFrame&, const float*, const float*, std::size_t, GerstnerOutput) noexcept;
   void (*train_grid_eval_filtered)(const TrainGridFrame&, const float*, const float*, std::size_t, const NodeFootprint&,
-                                   GerstnerOutput, float*) noexcept;
+                                   GerstnerOutput, float*, TrainGridKeep) noexcept;
 };
 
 }  // namespace houle::detail

@@ -75,15 +75,15 @@ void check_filtered(const TrainGridFrame& frame, const float* x, const float* y,
 }  // namespace
 
 void train_grid_eval(const TrainGridFrame& frame, const float* x, const float* y, std::size_t n, const NodeFootprint& footprint,
-                     GerstnerOutput out, float* slope_variance) noexcept {
+                     GerstnerOutput out, float* slope_variance, TrainGridKeep keep) noexcept {
   check_filtered(frame, x, y, n, footprint, out, slope_variance);
-  simd::active_table<detail::SurfaceTable>().train_grid_eval_filtered(frame, x, y, n, footprint, out, slope_variance);
+  simd::active_table<detail::SurfaceTable>().train_grid_eval_filtered(frame, x, y, n, footprint, out, slope_variance, keep);
 }
 
 void train_grid_eval(Isa isa, const TrainGridFrame& frame, const float* x, const float* y, std::size_t n,
-                     const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance) noexcept {
+                     const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance, TrainGridKeep keep) noexcept {
   check_filtered(frame, x, y, n, footprint, out, slope_variance);
-  simd::table_for<detail::SurfaceTable>(isa).train_grid_eval_filtered(frame, x, y, n, footprint, out, slope_variance);
+  simd::table_for<detail::SurfaceTable>(isa).train_grid_eval_filtered(frame, x, y, n, footprint, out, slope_variance, keep);
 }
 
 float node_wave_weight(const NodeFootprint& footprint, float x, float y, float kx, float ky) noexcept {

@@ -190,6 +190,59 @@ inline simd::vfloat<A> footprint_weight(const FootprintLanes<A>& l, simd::vfloat
   return u * u * (V(3.0f) - 2.0f * u);
 }
 
+/// Adds train t of the frame at the points, from its fields there (after wave() and shape()), to p;
+/// filtered, weighted (footprint_weight), lanes of weight 0 left as they are. The part of the sum
+/// that changes with the time: the kept path (train_grid_eval_filtered) runs it too.
+template <class A, bool Filtered>
+inline __attribute__((always_inline)) void add_train(const TrainGridFrame& f, std::uint32_t t,
+                                                     const TrainGridLanes<A>& l, simd::vfloat<A> weight,
+                                                     HeightFieldPoint<A>& p) {
+  using V = simd::vfloat<A>;
+  const V theta = l.phi - V(f.trains[t].nx < 2 ? f.far_phase[t] : f.time_phase[t]);
+  V s, c;
+  simd::sincos(theta, s, c);
+  // w = B e^{i theta}; its derivative along an axis: e^{i theta} dB + i k w.
+  const V w_re = l.b_re * c - l.b_im * s, w_im = l.b_re * s + l.b_im * c;
+  const V delta = l.fold * w_re + l.lean * w_im;
+  // The shape's phase shift is small but for the steepest waves: then the reduction can be skipped.
+  V sd, cd;
+  if (simd::all(simd::abs(delta) < 0.78f)) {
+    simd::sincos_reduced(delta, sd, cd);
+  } else {
+    simd::sincos(delta, sd, cd);
+  }
+  const V slope = w_im * sd + w_re * cd;  // -d h / d delta
+  const auto derivative = [&](V db_re, V db_im, V k) {
+    const V dw_re = (db_re * c - db_im * s) - k * w_im, dw_im = (db_re * s + db_im * c) + k * w_re;
+    return (dw_im * cd - dw_re * sd) - slope * (l.fold * dw_re + l.lean * dw_im);
+  };
+  const V h = w_im * cd - w_re * sd;
+  const V gx = derivative(l.b_re_x, l.b_im_x, l.kx), gy = derivative(l.b_re_y, l.b_im_y, l.ky);
+  if constexpr (Filtered) {
+    // Faded lanes keep their sums as they are (as when the whole batch skips the train).
+    const auto live = weight > 0.0f;
+    p.height = simd::select(live, p.height + weight * h, p.height);
+    p.grad_x = simd::select(live, p.grad_x + weight * gx, p.grad_x);
+    p.grad_y = simd::select(live, p.grad_y + weight * gy, p.grad_y);
+  } else {
+    p.height = p.height + h;
+    p.grad_x = p.grad_x + gx;
+    p.grad_y = p.grad_y + gy;
+  }
+}
+
+/// A train's footprint weight at the points and the slope variance it drops there, added to `variance`.
+template <class A>
+inline __attribute__((always_inline)) simd::vfloat<A> train_weight(const FootprintLanes<A>& footprint,
+                                                                   const TrainGridLanes<A>& l,
+                                                                   simd::vfloat<A>& variance) {
+  using V = simd::vfloat<A>;
+  const V weight = footprint_weight<A>(footprint, l.kx, l.ky);
+  const V b2 = l.b_re * l.b_re + l.b_im * l.b_im, k2 = l.kx * l.kx + l.ky * l.ky;
+  variance = variance + (V(1.0f) - weight * weight) * (b2 * k2 * 0.25f);
+  return weight;
+}
+
 /// The summed trains at the points; with a footprint (Filtered), each train weighted by
 /// footprint_weight and the slope variance it loses, per axis, added to `variance`: a train of
 /// amplitude |B| and wavenumber k has slope variance (k |B|)^2 / 2 along k, (k |B|)^2 / 4 per axis of
@@ -205,43 +258,11 @@ inline HeightFieldPoint<A> train_grid_point(const TrainGridFrame& f, simd::vfloa
     tap.wave(l);
     V weight(1.0f);
     if constexpr (Filtered) {
-      weight = footprint_weight<A>(*footprint, l.kx, l.ky);
-      const V b2 = l.b_re * l.b_re + l.b_im * l.b_im, k2 = l.kx * l.kx + l.ky * l.ky;
-      *variance = *variance + (V(1.0f) - weight * weight) * (b2 * k2 * 0.25f);
+      weight = train_weight<A>(*footprint, l, *variance);
       if (!simd::any(weight > 0.0f)) continue;  // faded everywhere here: nothing to add
     }
     tap.shape(l);
-    const V theta = l.phi - V(f.trains[t].nx < 2 ? f.far_phase[t] : f.time_phase[t]);
-    V s, c;
-    simd::sincos(theta, s, c);
-    // w = B e^{i theta}; its derivative along an axis: e^{i theta} dB + i k w.
-    const V w_re = l.b_re * c - l.b_im * s, w_im = l.b_re * s + l.b_im * c;
-    const V delta = l.fold * w_re + l.lean * w_im;
-    // The shape's phase shift is small but for the steepest waves: then the reduction can be skipped.
-    V sd, cd;
-    if (simd::all(simd::abs(delta) < 0.78f)) {
-      simd::sincos_reduced(delta, sd, cd);
-    } else {
-      simd::sincos(delta, sd, cd);
-    }
-    const V slope = w_im * sd + w_re * cd;  // -d h / d delta
-    const auto derivative = [&](V db_re, V db_im, V k) {
-      const V dw_re = (db_re * c - db_im * s) - k * w_im, dw_im = (db_re * s + db_im * c) + k * w_re;
-      return (dw_im * cd - dw_re * sd) - slope * (l.fold * dw_re + l.lean * dw_im);
-    };
-    const V h = w_im * cd - w_re * sd;
-    const V gx = derivative(l.b_re_x, l.b_im_x, l.kx), gy = derivative(l.b_re_y, l.b_im_y, l.ky);
-    if constexpr (Filtered) {
-      // Faded lanes keep their sums as they are (as when the whole batch skipped the train above).
-      const auto live = weight > 0.0f;
-      p.height = simd::select(live, p.height + weight * h, p.height);
-      p.grad_x = simd::select(live, p.grad_x + weight * gx, p.grad_x);
-      p.grad_y = simd::select(live, p.grad_y + weight * gy, p.grad_y);
-    } else {
-      p.height = p.height + h;
-      p.grad_x = p.grad_x + gx;
-      p.grad_y = p.grad_y + gy;
-    }
+    add_train<A, Filtered>(f, t, l, weight, p);
   }
   return p;
 }
@@ -254,18 +275,74 @@ void train_grid_eval(const TrainGridFrame& f, const float* x, const float* y, st
   });
 }
 
+/// The kept path's floats per batch of points: per train its 11 fields and its weight, then the
+/// slope variance, each a vector (train_grid_keep_floats per point).
+inline constexpr int kept_train_floats = 12;
+static_assert(train_grid_keep_floats(1) == kept_train_floats + 1);
+
 template <class A>
 void train_grid_eval_filtered(const TrainGridFrame& f, const float* x, const float* y, std::size_t n,
-                              const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance) noexcept {
+                              const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance,
+                              TrainGridKeep keep) noexcept {
+  using V = simd::vfloat<A>;
+  if (keep.data == nullptr) {
+    simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+      const V px = b.load(x), py = b.load(y);
+      const FootprintLanes<A> lanes = footprint_lanes<A>(footprint, px, py);
+      V variance(0.0f);
+      const HeightFieldPoint<A> p = train_grid_point<A, true>(f, px, py, &lanes, &variance);
+      b.store(out.height, p.height);
+      b.store(out.grad_x, p.grad_x);
+      b.store(out.grad_y, p.grad_y);
+      b.store(slope_variance, variance);
+    });
+    return;
+  }
+  // Kept: what does not change with the time is read back (or computed and written first), and the
+  // rest is add_train, as above: the same values through the same operations, so the same bits.
+  constexpr std::size_t W = simd::width<A>;
+  const std::size_t per_batch = train_grid_keep_floats(f.count) * W;
   simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
-    const simd::vfloat<A> px = b.load(x), py = b.load(y);
-    const FootprintLanes<A> lanes = footprint_lanes<A>(footprint, px, py);
-    simd::vfloat<A> variance(0.0f);
-    const HeightFieldPoint<A> p = train_grid_point<A, true>(f, px, py, &lanes, &variance);
+    float* q = keep.data + b.index() / W * per_batch;
+    if (!keep.kept) {
+      const V px = b.load(x), py = b.load(y);
+      const FootprintLanes<A> lanes = footprint_lanes<A>(footprint, px, py);
+      V variance(0.0f);
+      for (std::uint32_t t = 0; t < f.count; ++t) {
+        const TrainGridTap<A> tap(f.trains[t], px, py);
+        TrainGridLanes<A> l;
+        tap.wave(l);
+        const V weight = train_weight<A>(lanes, l, variance);
+        tap.shape(l);
+        const V fields[kept_train_floats] = {l.phi,    l.b_re,   l.b_im,   l.kx,     l.ky,     l.fold,
+                                             l.lean,   l.b_re_x, l.b_re_y, l.b_im_x, l.b_im_y, weight};
+        for (int k = 0; k < kept_train_floats; ++k) simd::store<A>(q + (t * kept_train_floats + k) * W, fields[k]);
+      }
+      simd::store<A>(q + f.count * kept_train_floats * W, variance);
+    }
+    HeightFieldPoint<A> p{V(0.0f), V(0.0f), V(0.0f)};
+    for (std::uint32_t t = 0; t < f.count; ++t) {
+      const float* r = q + t * kept_train_floats * W;
+      const V weight = simd::load<A>(r + 11 * W);
+      if (!simd::any(weight > 0.0f)) continue;
+      TrainGridLanes<A> l;
+      l.phi = simd::load<A>(r);
+      l.b_re = simd::load<A>(r + W);
+      l.b_im = simd::load<A>(r + 2 * W);
+      l.kx = simd::load<A>(r + 3 * W);
+      l.ky = simd::load<A>(r + 4 * W);
+      l.fold = simd::load<A>(r + 5 * W);
+      l.lean = simd::load<A>(r + 6 * W);
+      l.b_re_x = simd::load<A>(r + 7 * W);
+      l.b_re_y = simd::load<A>(r + 8 * W);
+      l.b_im_x = simd::load<A>(r + 9 * W);
+      l.b_im_y = simd::load<A>(r + 10 * W);
+      add_train<A, true>(f, t, l, weight, p);
+    }
     b.store(out.height, p.height);
     b.store(out.grad_x, p.grad_x);
     b.store(out.grad_y, p.grad_y);
-    b.store(slope_variance, variance);
+    b.store(slope_variance, simd::load<A>(q + f.count * kept_train_floats * W));
   });
 }
 

@@ -100,7 +100,9 @@ class SeaSurface {
   void eval(const float* x, const float* y, std::size_t n, float* height, float* grad_x, float* grad_y) const noexcept;
   /// For SurfaceFrame::fill: `context` is a const SeaSurface*. Unlike eval(), each train fades out
   /// where the run's footprint cannot resolve it, its slopes going into the run's slope variance.
+  /// It keeps sample_keep_floats() floats per node where the frame lets it (SurfaceFrame::keep_static).
   static void sample(void* context, const SurfaceSamples& samples) noexcept;
+  std::size_t sample_keep_floats() const noexcept { return train_grid_keep_floats(frame_.count); }
 
   /// Train `train` of the scene at (x, y) at the time set last.
   TrainProbe probe(std::size_t train, float x, float y) const noexcept;

@@ -103,6 +103,12 @@ struct SurfaceSamples {
   /// The slope variance per axis of the detail the sampler left out for the footprint (0 when it
   /// filters nothing): the glint's roughness (docs/rendering.md 5.5).
   float* slope_variance = nullptr;
+  /// Where the sampler may keep what it computes at these nodes that does not change between frames
+  /// (SurfaceFrame::keep_static; null: nowhere): its floats per node for n rounded up to 16 nodes, no
+  /// alignment promised. `kept`: it holds what the sampler wrote for this same run (the same points
+  /// and footprint) on an earlier frame; otherwise the sampler writes it now.
+  float* keep = nullptr;
+  bool kept = false;
 };
 
 /// Evaluates height and gradient at a run of nodes: the generic way to fill a frame (analytic trains,
@@ -165,7 +171,7 @@ class SurfaceFrame {
   /// it): begin_fill(), then fill_part(sampler, context, p, parts) once for every p in [0, parts) from
   /// any threads, then finish_frame(). Every node is computed alike: the frame does not depend on parts.
   static constexpr unsigned max_fill_parts = 8;
-  void begin_fill() noexcept { morphed_ = bounded_ = false; }
+  void begin_fill(SurfaceSampler sampler, void* context) noexcept;
   void fill_part(SurfaceSampler sampler, void* context, unsigned part, unsigned parts) noexcept;
   /// finish_frame()'s morph and its tiles' own bounds in `parts` pieces that may run concurrently, after
   /// every fill_part: morph_part(p, parts) for every p, then bound_part(p, parts) for every p, then
@@ -175,6 +181,19 @@ class SurfaceFrame {
   void bound_part(unsigned part, unsigned parts) noexcept;
   /// Morphs the band nodes (once per fill) and computes tile bounds, global bounds and the slab.
   void finish_frame() noexcept;
+
+  /// Most bytes keep_static() takes.
+  static constexpr std::size_t max_kept_bytes = std::size_t(128) << 20;
+  /// Bytes keep_static(floats_per_node) takes for `config`: enough for every node of every level, but at
+  /// most max_kept_bytes (a larger view then keeps nothing). 0 for an invalid config.
+  static std::size_t kept_bytes_bound(const SurfaceFrameConfig& config, std::size_t floats_per_node) noexcept;
+  /// Lets the fill's samplers keep `floats_per_node` floats per node of what does not change between
+  /// frames (SurfaceSamples::keep), in memory allocated here, once (kept_bytes_bound; untouched pages
+  /// cost nothing until a view needs them). A fill whose layout (centre, filled tiles, viewer, sampler
+  /// and context) is the last fill's lets the sampler write it, and the fills after it, while the
+  /// layout holds, read it back: a fixed camera pays the static part of the fill once, a moving one
+  /// nothing more than without it (docs/design.md 3). 0, or no memory for it: nothing kept.
+  void keep_static(std::size_t floats_per_node) noexcept;
 
   /// Bounds of anything added on top of the grid (capillary noise: capillary_height_bound and
   /// capillary_slope_bound at the highest level used), included in slab() and slope_bound().
@@ -210,6 +229,12 @@ class SurfaceFrame {
   /// Widens level l's tiles by the finer level's tiles inside its inner square (final ones: levels in order).
   void merge_finer(std::uint32_t l) noexcept;
   void finish_global() noexcept;
+  /// f(i0, count) for each run of node row j of level l that the fill evaluates: the nodes of needed
+  /// tiles, from node i0 on.
+  template <class F>
+  void for_each_run(std::uint32_t l, std::uint32_t j, F&& f) const noexcept;
+  /// Whether the fill's layout is the last fill's (and records it as the last).
+  bool same_layout(SurfaceSampler sampler, void* context) noexcept;
 
   SurfaceFrameConfig config_{};
   std::unique_ptr<float, FreeAligned> memory_;
@@ -235,6 +260,23 @@ class SurfaceFrame {
   float noise_height_ = 0.0f, noise_slope_ = 0.0f;
   bool morphed_ = false;  ///< the band nodes hold their morphed values (finish once per fill)
   bool bounded_ = false;  ///< the tiles' own bounds are those of the morphed nodes (bound_part ran)
+
+  // keep_static: the kept floats, each node row's first one in them, and the layout they belong to.
+  enum class Keep : std::uint8_t { off, write, read };
+  std::unique_ptr<float[]> keep_;
+  std::unique_ptr<std::size_t[]> keep_rows_;
+  std::unique_ptr<std::uint8_t[]> keep_needed_;  ///< the last fill's needed_
+  std::size_t keep_floats_ = 0, keep_per_node_ = 0;
+  struct KeepLayout {
+    float centre_x = 0.0f, centre_y = 0.0f;
+    NodeFootprint viewer{};
+    SurfaceSampler sampler = nullptr;
+    void* context = nullptr;
+  } keep_layout_;
+  bool keep_have_layout_ = false;  ///< keep_layout_ and keep_needed_ hold the last fill's
+  /// What keep_ holds for that layout: nothing yet, what the samplers wrote, or nothing ever (too large).
+  enum class Kept : std::uint8_t { nothing, written, too_large } keep_state_ = Kept::nothing;
+  Keep keep_mode_ = Keep::off;  ///< this fill's
 };
 
 /// Fills `frame` (after begin_frame) from analytic Gerstner trains with the dispatched

@@ -75,12 +75,29 @@ void train_grid_eval(const TrainGridFrame& frame, const float* x, const float* y
 void train_grid_eval(Isa isa, const TrainGridFrame& frame, const float* x, const float* y, std::size_t n,
                      GerstnerOutput out) noexcept;
 
+/// Floats per point that the filtered train_grid_eval keeps (TrainGridKeep) for `trains` trains: each
+/// train's fields, their gradients and its footprint weight, and the slope variance.
+constexpr std::size_t train_grid_keep_floats(std::uint32_t trains) noexcept { return 12 * std::size_t(trains) + 1; }
+
+/// Where the filtered train_grid_eval keeps what does not change with the time at its points: the
+/// trains' interpolated fields and footprint weights (docs/design.md 3). `data`: room for
+/// train_grid_keep_floats(frame.count) floats per point, the points rounded up to 16; no alignment
+/// needed. `kept`: data holds what an earlier call wrote for the same points, footprint and trains on
+/// the same ISA (the frame's time may differ), which is read instead of the grids; otherwise this call
+/// writes it. The results are the same bits with and without it.
+struct TrainGridKeep {
+  float* data = nullptr;
+  bool kept = false;
+};
+
 /// The same, each train weighted by node_wave_weight(footprint, point, its local wave vector), so that
 /// nodes hold no wave they cannot sample (docs/rendering.md 5.5); slope_variance[i] gets the slope
 /// variance per axis the weights removed there (n floats).
 void train_grid_eval(const TrainGridFrame& frame, const float* x, const float* y, std::size_t n,
-                     const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance) noexcept;
+                     const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance,
+                     TrainGridKeep keep = {}) noexcept;
 void train_grid_eval(Isa isa, const TrainGridFrame& frame, const float* x, const float* y, std::size_t n,
-                     const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance) noexcept;
+                     const NodeFootprint& footprint, GerstnerOutput out, float* slope_variance,
+                     TrainGridKeep keep = {}) noexcept;
 
 }  // namespace houle
