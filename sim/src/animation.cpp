@@ -96,7 +96,7 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
   if (!sea) return sea.error();
   Expected<SurfaceFrame> surface = SurfaceFrame::create(quality.surface);
   if (!surface) return Error{"quality.surface", surface.error().message};
-  // A fixed shot fills the trains' static part of the frame once (docs/design.md 10).
+  // The trains' fields at the frame's nodes are read from the grids once per level layout (docs/design.md 3).
   surface->keep_static(sea->sample_keep_floats());
   // A floating object goes no further than the sea's height bound up or down, and its centre swings
   // by less than 1.5 times its height above the waterplane as it tilts.

@@ -394,23 +394,25 @@ void keep_probe_sampler(void* c, const houle::SurfaceSamples& s) noexcept {
   }
 }
 
-// keep_static: a fill offers the sampler nothing on a new layout, room to write on its second fill and
-// what it wrote, at the same nodes, from the third on; a new centre, viewer, view or context starts
-// over, and a layout that does not fit the memory keeps nothing.
+// keep_static, level by level: a fill offers the sampler nothing where a level's origin or filled
+// tiles are new, room to write on their second fill and what it wrote, at the same nodes, from the
+// third on, whatever the viewer; another context starts over, a camera walking along reuses the
+// levels it has not left, and a layout that does not fit the memory keeps nothing.
 TEST(SurfaceFrame, KeepsTheStaticPartForTheFillsOfOneLayout) {
   SurfaceFrame f = make_frame(small_config());
   f.keep_static(1);
-  const auto cam = [](float x, float y, float z) {
-    auto c = houle::make_camera({{x, y, z}, {x + 20.0f, y + 30.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, 1.0f, 160, 90});
+  const auto cam = [](float x, float y, float z, float dx = 20.0f, float dy = 30.0f) {
+    auto c = houle::make_camera({{x, y, z}, {x + dx, y + dy, 0.0f}, {0.0f, 0.0f, 1.0f}, 1.0f, 160, 90});
     EXPECT_TRUE(c.ok());
     return c.value();
   };
   KeepProbe a, b;
-  const auto fill = [&](const houle::Camera& c, KeepProbe& probe) {
+  // 'o', 'w', 'r': every run offered nothing, room to write, what was written; '?': a mix.
+  const auto fill = [&](const houle::Camera& c, KeepProbe& probe, const houle::Camera* viewer = nullptr) {
     probe = {};
     f.begin_frame(c.position[0], c.position[1]);
     f.restrict_to_view(c);
-    f.set_viewer(c);
+    f.set_viewer(viewer != nullptr ? *viewer : c);
     f.fill(keep_probe_sampler, &probe);
     EXPECT_FALSE(probe.mismatch);
     return probe.off > 0 && probe.write == 0 && probe.read == 0   ? 'o'
@@ -418,32 +420,37 @@ TEST(SurfaceFrame, KeepsTheStaticPartForTheFillsOfOneLayout) {
            : probe.read > 0 && probe.off == 0 && probe.write == 0 ? 'r'
                                                                   : '?';
   };
-  const houle::Camera still = cam(3.0f, 4.0f, 10.0f);
   std::string modes;
-  for (int k = 0; k < 4; ++k) modes += fill(still, a);
-  modes += fill(cam(5.0f, 4.0f, 10.0f), a);  // moved
-  modes += fill(cam(5.0f, 4.0f, 10.0f), a);
-  modes += fill(cam(5.0f, 4.0f, 10.0f), a);
-  modes += fill(cam(5.0f, 4.0f, 12.0f), a);  // raised: the same centre, another viewer
-  modes += fill(cam(5.0f, 4.0f, 12.0f), b);  // another context
-  modes += fill(cam(5.0f, 4.0f, 12.0f), b);
-  modes += fill(cam(5.0f, 4.0f, 12.0f), b);
-  EXPECT_EQ(modes, "owrrowroowr");
-  // Turned round at the same point: another set of tiles.
-  auto back = houle::make_camera({{5.0f, 4.0f, 12.0f}, {-15.0f, -26.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, 1.0f, 160, 90});
-  ASSERT_TRUE(back.ok());
+  for (int k = 0; k < 4; ++k) modes += fill(cam(3.0f, 4.0f, 10.0f), a);
+  const houle::Camera raised = cam(3.0f, 4.0f, 14.0f);
+  modes += fill(cam(3.0f, 4.0f, 10.0f), a, &raised);  // another viewer, the same nodes
+  for (int k = 0; k < 3; ++k) modes += fill(cam(5003.0f, 4.0f, 10.0f), a);  // every level moved
+  for (int k = 0; k < 3; ++k) modes += fill(cam(5003.0f, 4.0f, 10.0f), b);  // another context
+  EXPECT_EQ(modes, "owrrrowrowr");
+  // Turned round at the same point: other tiles.
   modes.clear();
-  for (int k = 0; k < 3; ++k) modes += fill(back.value(), b);
-  EXPECT_EQ(modes, "owr");
-  // Too many floats per node for max_kept_bytes: never written.
+  for (int k = 0; k < 3; ++k) modes += fill(cam(5003.0f, 4.0f, 10.0f, -20.0f, -30.0f), b);
+  EXPECT_NE(modes[0], 'r');
+  EXPECT_EQ(modes.substr(1), "wr");
+  // Walking 0.5 m a frame: the coarse levels are read while the fine ones move on.
+  int reads = 0, runs = 0;
+  for (int k = 0; k < 24; ++k) {
+    fill(cam(5003.0f + 0.5f * float(k), 4.0f, 10.0f), b);
+    reads += b.read;
+    runs += b.off + b.write + b.read;
+  }
+  EXPECT_GT(reads, runs / 4);  // 38 % here
+  EXPECT_LT(reads, runs);
+  // Too many floats per node for a level's share of max_kept_bytes: never written.
   f.keep_static(std::size_t(1) << 20);
-  EXPECT_EQ(SurfaceFrame::kept_bytes_bound(small_config(), std::size_t(1) << 20), SurfaceFrame::max_kept_bytes);
+  EXPECT_EQ(SurfaceFrame::kept_bytes_bound(small_config(), std::size_t(1) << 20),
+            small_config().levels * (SurfaceFrame::max_kept_bytes / small_config().levels / 64 * 64));
   modes.clear();
-  for (int k = 0; k < 3; ++k) modes += fill(still, a);
+  for (int k = 0; k < 3; ++k) modes += fill(cam(3.0f, 4.0f, 10.0f), a);
   EXPECT_EQ(modes, "ooo");
   f.keep_static(0);
   modes.clear();
-  for (int k = 0; k < 3; ++k) modes += fill(still, a);
+  for (int k = 0; k < 3; ++k) modes += fill(cam(3.0f, 4.0f, 10.0f), a);
   EXPECT_EQ(modes, "ooo");
 }
 

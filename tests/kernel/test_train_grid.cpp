@@ -214,9 +214,9 @@ TEST(TrainGrid, RowsOfNodesMatchScalarOnEveryIsa) {
 }
 
 // What the fill keeps of a run (TrainGridKeep): written with the first frame's results and read back at
-// another time, both give the bits of the evaluation without it, on every ISA, for rows of nodes as the
-// frame fills them and for scattered points, with tails. A grid without nodes (the far field) is among
-// the trains: its phase's constant changes with the time too. Tolerance 0.
+// other times and for other viewers, both give the bits of the evaluation without it, on every ISA, for
+// rows of nodes as the frame fills them and for scattered points, with tails. A grid without nodes (the
+// far field) is among the trains: its phase's constant changes with the time too. Tolerance 0.
 TEST(TrainGrid, KeptFieldsGiveTheBitsOfTheGridsAtEveryTime) {
   std::mt19937 rng(31);
   std::uniform_real_distribution<float> u(0.0f, 1.0f), coord(-30.0f, 60.0f);
@@ -245,8 +245,12 @@ TEST(TrainGrid, KeptFieldsGiveTheBitsOfTheGridsAtEveryTime) {
           const houle::TrainGridFrame frame = frame_of(r.grids, 0.41 * trial + 1.7 * step);
           Outputs ref(n), got(n);
           std::vector<float> vref(n), vgot(n);
-          houle::train_grid_eval(isa, frame, x.data(), y.data(), n, footprint, ref.view(), vref.data());
-          houle::train_grid_eval(isa, frame, x.data(), y.data(), n, footprint, got.view(), vgot.data(),
+          // The viewer moves too: what is kept does not depend on it.
+          houle::NodeFootprint seen = footprint;
+          seen.eye_x += 3.0f * float(step);
+          seen.eye_height += 0.5f * float(step);
+          houle::train_grid_eval(isa, frame, x.data(), y.data(), n, seen, ref.view(), vref.data());
+          houle::train_grid_eval(isa, frame, x.data(), y.data(), n, seen, got.view(), vgot.data(),
                                  {keep.data(), step > 0});
           for (std::size_t i = 0; i < n; ++i) {
             ASSERT_EQ(std::bit_cast<std::uint32_t>(ref.h[i]), std::bit_cast<std::uint32_t>(got.h[i])) << step << " " << i;
@@ -256,7 +260,7 @@ TEST(TrainGrid, KeptFieldsGiveTheBitsOfTheGridsAtEveryTime) {
           }
           compared += int(n);
         }
-        // Kept means read: zeroed fields (weights 0, slope variance 0) give a flat sea.
+        // Kept means read: zeroed fields (no amplitude, no wave vector) give a flat sea.
         std::fill(keep.begin(), keep.end(), 0.0f);
         Outputs flat(n);
         std::vector<float> variance(n, 1.0f);

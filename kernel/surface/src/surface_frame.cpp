@@ -332,51 +332,53 @@ namespace {
 std::size_t kept_run_floats(std::size_t count, std::size_t per_node) noexcept { return (count + 15) / 16 * 16 * per_node; }
 }  // namespace
 
-bool SurfaceFrame::same_layout(SurfaceSampler sampler, void* context) noexcept {
-  const std::size_t flags = std::size_t(config_.levels) * tiles_ * tiles_;
-  const KeepLayout now{centre_x_, centre_y_, viewer_, sampler, context};
-  const auto same_viewer = [](const NodeFootprint& a, const NodeFootprint& b) {
-    return a.cell == b.cell && a.pixel_angle == b.pixel_angle && a.eye_x == b.eye_x && a.eye_y == b.eye_y &&
-           a.eye_height == b.eye_height;
-  };
-  const KeepLayout& last = keep_layout_;
-  const bool same = keep_have_layout_ && now.centre_x == last.centre_x && now.centre_y == last.centre_y &&
-                    same_viewer(now.viewer, last.viewer) && now.sampler == last.sampler && now.context == last.context &&
-                    std::equal(needed_, needed_ + flags, keep_needed_.get());
+bool SurfaceFrame::same_level_layout(std::uint32_t l) noexcept {
+  const std::size_t flags = std::size_t(tiles_) * tiles_, first = l * flags;
+  KeptLevel& k = keep_levels_[l];
+  const SurfaceLevel& s = levels_[l];
+  const bool same = k.have_layout && k.origin_x == s.origin_x && k.origin_y == s.origin_y &&
+                    std::equal(needed_ + first, needed_ + first + flags, keep_needed_.get() + first);
   if (!same) {
-    keep_layout_ = now;
-    std::copy(needed_, needed_ + flags, keep_needed_.get());
-    keep_have_layout_ = true;
+    k.origin_x = s.origin_x;
+    k.origin_y = s.origin_y;
+    std::copy(needed_ + first, needed_ + first + flags, keep_needed_.get() + first);
+    k.have_layout = true;
   }
   return same;
 }
 
 void SurfaceFrame::begin_fill(SurfaceSampler sampler, void* context) noexcept {
   morphed_ = bounded_ = false;
-  keep_mode_ = Keep::off;
+  for (KeptLevel& k : keep_levels_) k.mode = Keep::off;
   if (keep_per_node_ == 0) return;
-  if (!same_layout(sampler, context)) {
-    keep_state_ = Kept::nothing;
-    return;
+  if (sampler != keep_sampler_ || context != keep_context_) {  // another sea: nothing kept is its
+    for (KeptLevel& k : keep_levels_) k = {};
+    keep_sampler_ = sampler;
+    keep_context_ = context;
   }
-  if (keep_state_ == Kept::written) keep_mode_ = Keep::read;
-  if (keep_state_ != Kept::nothing) return;
-  // The layout's second fill: its runs get their places, and are written if they all fit.
-  std::size_t at = 0;
   for (std::uint32_t l = 0; l < config_.levels; ++l) {
+    KeptLevel& k = keep_levels_[l];
+    if (!same_level_layout(l)) {
+      k.state = Kept::nothing;
+      continue;
+    }
+    if (k.state == Kept::written) k.mode = Keep::read;
+    if (k.state != Kept::nothing) continue;
+    // The layout's second fill: the level's runs get their places, and are written if they all fit.
+    std::size_t at = 0;
     for (std::uint32_t j = 0; j <= config_.cells; ++j) {
       keep_rows_[std::size_t(l) * (config_.cells + 1) + j] = at;
       for_each_run(l, j, [&](std::size_t, std::size_t count) { at += kept_run_floats(count, keep_per_node_); });
     }
+    k.state = at <= keep_level_floats_ ? Kept::written : Kept::too_large;
+    if (k.state == Kept::written) k.mode = Keep::write;
   }
-  keep_state_ = at <= keep_floats_ ? Kept::written : Kept::too_large;
-  if (keep_state_ == Kept::written) keep_mode_ = Keep::write;
 }
 
 void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned part, unsigned parts) noexcept {
   HOULE_ASSERT(sampler != nullptr, "SurfaceFrame::fill_part: a sampler");
   HOULE_ASSERT(parts >= 1 && parts <= max_fill_parts && part < parts, "SurfaceFrame::fill_part: part < parts <= max_fill_parts");
-  HOULE_ASSERT(keep_mode_ == Keep::off || (sampler == keep_layout_.sampler && context == keep_layout_.context),
+  HOULE_ASSERT(keep_per_node_ == 0 || (sampler == keep_sampler_ && context == keep_context_),
                "SurfaceFrame::fill_part: begin_fill's sampler and context");
   const std::uint32_t nodes = config_.cells + 1;
   float* row_x = row_x_ + std::size_t(part) * stride_;
@@ -391,13 +393,14 @@ void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned par
       if (row_index % parts != part) continue;
       const float y = s.origin_y + float(j) * s.cell;
       const std::size_t o = j * stride_;
-      float* keep = keep_mode_ == Keep::off ? nullptr : keep_.get() + keep_rows_[std::size_t(l) * nodes + j];
+      const Keep mode = keep_levels_[l].mode;
+      float* keep = mode == Keep::off ? nullptr : keep_.get() + l * keep_level_floats_ + keep_rows_[std::size_t(l) * nodes + j];
       for_each_run(l, j, [&](std::size_t i0, std::size_t count) {
         // Node coordinates exactly as the marcher's grid coordinates invert them: origin + i * cell.
         for (std::size_t i = 0; i < count; ++i) row_x[i] = s.origin_x + float(i0 + i) * s.cell;
         std::fill(row_y, row_y + count, y);
         SurfaceSamples run{row_x, row_y, count, footprint, heights(l) + o + i0, grad_x(l) + o + i0, grad_y(l) + o + i0,
-                           slope_variance(l) + o + i0, keep, keep_mode_ == Keep::read};
+                           slope_variance(l) + o + i0, keep, mode == Keep::read};
         sampler(context, run);
         if (keep != nullptr) keep += kept_run_floats(count, keep_per_node_);
       });
@@ -408,18 +411,19 @@ void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned par
 std::size_t SurfaceFrame::kept_bytes_bound(const SurfaceFrameConfig& config, std::size_t floats_per_node) noexcept {
   if (!check(config)) return 0;
   const std::size_t nodes = config.cells + 1;
-  const std::size_t every = std::size_t(config.levels) * nodes * kept_run_floats(nodes, floats_per_node) * sizeof(float);
-  return std::min(every, max_kept_bytes);
+  const std::size_t level = std::min(nodes * kept_run_floats(nodes, floats_per_node) * sizeof(float),
+                                     max_kept_bytes / config.levels / 64 * 64);
+  return config.levels * level;
 }
 
 void SurfaceFrame::keep_static(std::size_t floats_per_node) noexcept {
   keep_.reset();
   keep_rows_.reset();
   keep_needed_.reset();
-  keep_floats_ = keep_per_node_ = 0;
-  keep_have_layout_ = false;
-  keep_state_ = Kept::nothing;
-  keep_mode_ = Keep::off;
+  keep_level_floats_ = keep_per_node_ = 0;
+  keep_sampler_ = nullptr;
+  keep_context_ = nullptr;
+  for (KeptLevel& k : keep_levels_) k = {};
   if (floats_per_node == 0) return;
   const std::size_t bytes = kept_bytes_bound(config_, floats_per_node);
   const std::size_t rows = std::size_t(config_.levels) * (config_.cells + 1), flags = std::size_t(config_.levels) * tiles_ * tiles_;
@@ -433,7 +437,7 @@ void SurfaceFrame::keep_static(std::size_t floats_per_node) noexcept {
     keep_needed_.reset();
     return;
   }
-  keep_floats_ = bytes / sizeof(float);
+  keep_level_floats_ = bytes / sizeof(float) / config_.levels;
   keep_per_node_ = floats_per_node;
 }
 

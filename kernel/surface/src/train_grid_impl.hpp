@@ -275,10 +275,10 @@ void train_grid_eval(const TrainGridFrame& f, const float* x, const float* y, st
   });
 }
 
-/// The kept path's floats per batch of points: per train its 11 fields and its weight, then the
-/// slope variance, each a vector (train_grid_keep_floats per point).
-inline constexpr int kept_train_floats = 12;
-static_assert(train_grid_keep_floats(1) == kept_train_floats + 1);
+/// The kept path's floats per train and batch of points: its 11 fields, each a vector
+/// (train_grid_keep_floats per point).
+inline constexpr int kept_train_floats = 11;
+static_assert(train_grid_keep_floats(1) == kept_train_floats);
 
 template <class A>
 void train_grid_eval_filtered(const TrainGridFrame& f, const float* x, const float* y, std::size_t n,
@@ -298,39 +298,38 @@ void train_grid_eval_filtered(const TrainGridFrame& f, const float* x, const flo
     });
     return;
   }
-  // Kept: what does not change with the time is read back (or computed and written first), and the
-  // rest is add_train, as above: the same values through the same operations, so the same bits.
+  // Kept: the fields, which change neither with the time nor with the viewer, are read back (or read
+  // from the grids and written first); the weights and the time's part follow as above, through the
+  // same operations on the same values: the same bits.
   constexpr std::size_t W = simd::width<A>;
   const std::size_t per_batch = train_grid_keep_floats(f.count) * W;
   simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
+    const V px = b.load(x), py = b.load(y);
     float* q = keep.data + b.index() / W * per_batch;
     if (!keep.kept) {
-      const V px = b.load(x), py = b.load(y);
-      const FootprintLanes<A> lanes = footprint_lanes<A>(footprint, px, py);
-      V variance(0.0f);
       for (std::uint32_t t = 0; t < f.count; ++t) {
         const TrainGridTap<A> tap(f.trains[t], px, py);
         TrainGridLanes<A> l;
         tap.wave(l);
-        const V weight = train_weight<A>(lanes, l, variance);
         tap.shape(l);
-        const V fields[kept_train_floats] = {l.phi,    l.b_re,   l.b_im,   l.kx,     l.ky,     l.fold,
-                                             l.lean,   l.b_re_x, l.b_re_y, l.b_im_x, l.b_im_y, weight};
+        const V fields[kept_train_floats] = {l.phi,  l.b_re,   l.b_im,   l.kx,     l.ky,    l.fold,
+                                             l.lean, l.b_re_x, l.b_re_y, l.b_im_x, l.b_im_y};
         for (int k = 0; k < kept_train_floats; ++k) simd::store<A>(q + (t * kept_train_floats + k) * W, fields[k]);
       }
-      simd::store<A>(q + f.count * kept_train_floats * W, variance);
     }
+    const FootprintLanes<A> lanes = footprint_lanes<A>(footprint, px, py);
+    V variance(0.0f);
     HeightFieldPoint<A> p{V(0.0f), V(0.0f), V(0.0f)};
     for (std::uint32_t t = 0; t < f.count; ++t) {
       const float* r = q + t * kept_train_floats * W;
-      const V weight = simd::load<A>(r + 11 * W);
-      if (!simd::any(weight > 0.0f)) continue;
       TrainGridLanes<A> l;
-      l.phi = simd::load<A>(r);
-      l.b_re = simd::load<A>(r + W);
-      l.b_im = simd::load<A>(r + 2 * W);
       l.kx = simd::load<A>(r + 3 * W);
       l.ky = simd::load<A>(r + 4 * W);
+      l.b_re = simd::load<A>(r + W);
+      l.b_im = simd::load<A>(r + 2 * W);
+      const V weight = train_weight<A>(lanes, l, variance);
+      if (!simd::any(weight > 0.0f)) continue;
+      l.phi = simd::load<A>(r);
       l.fold = simd::load<A>(r + 5 * W);
       l.lean = simd::load<A>(r + 6 * W);
       l.b_re_x = simd::load<A>(r + 7 * W);
@@ -342,7 +341,7 @@ void train_grid_eval_filtered(const TrainGridFrame& f, const float* x, const flo
     b.store(out.height, p.height);
     b.store(out.grad_x, p.grad_x);
     b.store(out.grad_y, p.grad_y);
-    b.store(slope_variance, simd::load<A>(q + f.count * kept_train_floats * W));
+    b.store(slope_variance, variance);
   });
 }
 

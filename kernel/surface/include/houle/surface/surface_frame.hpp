@@ -103,10 +103,10 @@ struct SurfaceSamples {
   /// The slope variance per axis of the detail the sampler left out for the footprint (0 when it
   /// filters nothing): the glint's roughness (docs/rendering.md 5.5).
   float* slope_variance = nullptr;
-  /// Where the sampler may keep what it computes at these nodes that does not change between frames
-  /// (SurfaceFrame::keep_static; null: nowhere): its floats per node for n rounded up to 16 nodes, no
-  /// alignment promised. `kept`: it holds what the sampler wrote for this same run (the same points
-  /// and footprint) on an earlier frame; otherwise the sampler writes it now.
+  /// Where the sampler may keep what it computes at these nodes that changes neither with the time
+  /// nor with the viewer (SurfaceFrame::keep_static; null: nowhere): its floats per node for n rounded
+  /// up to 16 nodes, no alignment promised. `kept`: it holds what the sampler wrote for this same run
+  /// (the same nodes) on an earlier frame; otherwise the sampler writes it now.
   float* keep = nullptr;
   bool kept = false;
 };
@@ -185,14 +185,16 @@ class SurfaceFrame {
   /// Most bytes keep_static() takes.
   static constexpr std::size_t max_kept_bytes = std::size_t(128) << 20;
   /// Bytes keep_static(floats_per_node) takes for `config`: enough for every node of every level, but at
-  /// most max_kept_bytes (a larger view then keeps nothing). 0 for an invalid config.
+  /// most max_kept_bytes, a share per level (a level that needs more keeps nothing). 0 for an invalid
+  /// config.
   static std::size_t kept_bytes_bound(const SurfaceFrameConfig& config, std::size_t floats_per_node) noexcept;
-  /// Lets the fill's samplers keep `floats_per_node` floats per node of what does not change between
-  /// frames (SurfaceSamples::keep), in memory allocated here, once (kept_bytes_bound; untouched pages
-  /// cost nothing until a view needs them). A fill whose layout (centre, filled tiles, viewer, sampler
-  /// and context) is the last fill's lets the sampler write it, and the fills after it, while the
-  /// layout holds, read it back: a fixed camera pays the static part of the fill once, a moving one
-  /// nothing more than without it (docs/design.md 3). 0, or no memory for it: nothing kept.
+  /// Lets the fill's samplers keep `floats_per_node` floats per node of what changes neither with the
+  /// time nor with the viewer (SurfaceSamples::keep), in memory allocated here, once
+  /// (kept_bytes_bound; untouched pages cost nothing until a view needs them). Level by level: a fill
+  /// that finds a level's origin and filled tiles as the last fill left them lets the sampler write
+  /// there, and the fills after it, while they hold, read it back. A fixed camera pays that part of
+  /// the fill once; a moving one, for each level, once per move of its origin or of the view's edge
+  /// across its tiles (docs/design.md 3). 0, or no memory for it: nothing kept.
   void keep_static(std::size_t floats_per_node) noexcept;
 
   /// Bounds of anything added on top of the grid (capillary noise: capillary_height_bound and
@@ -233,8 +235,8 @@ class SurfaceFrame {
   /// tiles, from node i0 on.
   template <class F>
   void for_each_run(std::uint32_t l, std::uint32_t j, F&& f) const noexcept;
-  /// Whether the fill's layout is the last fill's (and records it as the last).
-  bool same_layout(SurfaceSampler sampler, void* context) noexcept;
+  /// Whether level l's origin and filled tiles are the last fill's (and records them as the last).
+  bool same_level_layout(std::uint32_t l) noexcept;
 
   SurfaceFrameConfig config_{};
   std::unique_ptr<float, FreeAligned> memory_;
@@ -261,22 +263,25 @@ class SurfaceFrame {
   bool morphed_ = false;  ///< the band nodes hold their morphed values (finish once per fill)
   bool bounded_ = false;  ///< the tiles' own bounds are those of the morphed nodes (bound_part ran)
 
-  // keep_static: the kept floats, each node row's first one in them, and the layout they belong to.
+  // keep_static: the kept floats (a share per level), each node row's first one in its level's share,
+  // and per level the layout they belong to and this fill's use of them.
   enum class Keep : std::uint8_t { off, write, read };
+  /// What a level's share holds for its last layout: nothing yet, what the samplers wrote, or nothing
+  /// ever (too large).
+  enum class Kept : std::uint8_t { nothing, written, too_large };
+  struct KeptLevel {
+    float origin_x = 0.0f, origin_y = 0.0f;
+    bool have_layout = false;  ///< origin and keep_needed_'s share hold the last fill's
+    Kept state = Kept::nothing;
+    Keep mode = Keep::off;
+  };
   std::unique_ptr<float[]> keep_;
   std::unique_ptr<std::size_t[]> keep_rows_;
   std::unique_ptr<std::uint8_t[]> keep_needed_;  ///< the last fill's needed_
-  std::size_t keep_floats_ = 0, keep_per_node_ = 0;
-  struct KeepLayout {
-    float centre_x = 0.0f, centre_y = 0.0f;
-    NodeFootprint viewer{};
-    SurfaceSampler sampler = nullptr;
-    void* context = nullptr;
-  } keep_layout_;
-  bool keep_have_layout_ = false;  ///< keep_layout_ and keep_needed_ hold the last fill's
-  /// What keep_ holds for that layout: nothing yet, what the samplers wrote, or nothing ever (too large).
-  enum class Kept : std::uint8_t { nothing, written, too_large } keep_state_ = Kept::nothing;
-  Keep keep_mode_ = Keep::off;  ///< this fill's
+  std::size_t keep_level_floats_ = 0, keep_per_node_ = 0;
+  SurfaceSampler keep_sampler_ = nullptr;  ///< of the last fill
+  void* keep_context_ = nullptr;
+  std::array<KeptLevel, max_levels> keep_levels_{};
 };
 
 /// Fills `frame` (after begin_frame) from analytic Gerstner trains with the dispatched

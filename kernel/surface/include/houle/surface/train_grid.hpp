@@ -76,15 +76,15 @@ void train_grid_eval(Isa isa, const TrainGridFrame& frame, const float* x, const
                      GerstnerOutput out) noexcept;
 
 /// Floats per point that the filtered train_grid_eval keeps (TrainGridKeep) for `trains` trains: each
-/// train's fields, their gradients and its footprint weight, and the slope variance.
-constexpr std::size_t train_grid_keep_floats(std::uint32_t trains) noexcept { return 12 * std::size_t(trains) + 1; }
+/// train's fields and their gradients.
+constexpr std::size_t train_grid_keep_floats(std::uint32_t trains) noexcept { return 11 * std::size_t(trains); }
 
-/// Where the filtered train_grid_eval keeps what does not change with the time at its points: the
-/// trains' interpolated fields and footprint weights (docs/design.md 3). `data`: room for
+/// Where the filtered train_grid_eval keeps what changes neither with the time nor with the viewer at
+/// its points: the trains' interpolated fields (docs/design.md 3). `data`: room for
 /// train_grid_keep_floats(frame.count) floats per point, the points rounded up to 16; no alignment
-/// needed. `kept`: data holds what an earlier call wrote for the same points, footprint and trains on
-/// the same ISA (the frame's time may differ), which is read instead of the grids; otherwise this call
-/// writes it. The results are the same bits with and without it.
+/// needed. `kept`: data holds what an earlier call wrote for the same points and trains on the same
+/// ISA (the time and the footprint may differ), which is read instead of the grids; otherwise this
+/// call writes it. The results are the same bits with and without it.
 struct TrainGridKeep {
   float* data = nullptr;
   bool kept = false;
