@@ -168,8 +168,9 @@ class SurfaceFrame {
   /// then finish_frame().
   void fill(SurfaceSampler sampler, void* context) noexcept;
   /// fill() in `parts` (1..max_fill_parts) pieces that may run concurrently (the sampler must allow
-  /// it): begin_fill(), then fill_part(sampler, context, p, parts) once for every p in [0, parts) from
-  /// any threads, then finish_frame(). Every node is computed alike: the frame does not depend on parts.
+  /// it): begin_fill(sampler, context), then fill_part(sampler, context, p, parts) once for every p
+  /// in [0, parts) from any threads, then finish_frame(). Every node is computed alike: the frame does
+  /// not depend on parts.
   static constexpr unsigned max_fill_parts = 8;
   void begin_fill(SurfaceSampler sampler, void* context) noexcept;
   void fill_part(SurfaceSampler sampler, void* context, unsigned part, unsigned parts) noexcept;
