@@ -131,7 +131,10 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
     Expected<CapillaryFrame> probe = make_capillary_frame(p, 0.0);
     if (!probe) return Error{"capillary", probe.error().message};
     a.noise_params_ = p;
+    // The marcher widens the slab by its octaves' bounds, whose sum is this one to a ten-thousandth.
+    a.noise_height_ = capillary_height_bound(p, capillary_top_level(p)) * 1.01f + 0.01f;
   }
+  a.view_slab_ = float(float_bound * 1.001 + 0.01);
   a.cost_ = cost;
   a.build_ms_ = ms_since(t0);
   return a;
@@ -165,10 +168,15 @@ void Animation::render(double time_s, Framebuffer& out) noexcept {
       renderer_.move_sphere(f.render_index, {float(p.centre[0]), float(p.centre[1]), float(p.centre[2])});
     }
   }
+  // Every ray the renderer marches over the sea starts at the camera and samples within the frame's
+  // slab: the sea's height bound (which bounds every node) widened by the noise's.
+  const float slab = view_slab_ + noise_height_;
   surface_.begin_frame(camera_.position[0], camera_.position[1]);
-  surface_.restrict_to_view(camera_);  // every ray the renderer marches over the sea starts at the camera
-  surface_.set_viewer(camera_);        // and its pixels set what the nodes can hold
+  surface_.restrict_to_view(camera_, -slab, slab);
+  surface_.set_viewer(camera_);  // and its pixels set what the nodes can hold
   renderer_.fill_surface(surface_, &SeaSurface::sample, sea_.get());
+  HOULE_ASSERT(surface_.view().global.h_min >= -view_slab_ && surface_.view().global.h_max <= view_slab_,
+               "Animation::render: the sea within its height bound");
   times_.surface_ms = ms_since(t0);
   t0 = Clock::now();
   const CapillaryFrame* noise = nullptr;

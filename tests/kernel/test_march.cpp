@@ -606,7 +606,7 @@ TEST(March, CameraRowsEqualExplicitRays) {
 }
 
 TEST(March, ViewRestrictedFillServesTheCameraRays) {
-  // Filling only the frustum's wedge must not change what the camera's rays see.
+  // Filling only the frustum's wedge, or its slice of the slab, must not change what the camera's rays see.
   const float cx = 3.0f, cy = -4.0f;
   const Scene full = make_scene(cx, cy, 7.5);
   auto made = houle::SurfaceFrame::create({});
@@ -617,55 +617,61 @@ TEST(March, ViewRestrictedFillServesTheCameraRays) {
   const float looks[][3] = {{0.0f, 100.0f, -10.0f}, {100.0f, 0.0f, -2.0f}, {-70.0f, -70.0f, -60.0f},
                             {30.0f, -100.0f, 15.0f}, {0.5f, 0.5f, -100.0f}};
   for (const auto& look : looks) {
-    houle::CameraParams cp;
-    cp.position = {cx, cy, 6.0f};
-    cp.look_at = {cx + look[0], cy + look[1], 6.0f + look[2]};
-    if (look[0] == 0.5f) cp.up = {0.0f, 1.0f, 0.0f};  // straight down: everything is kept
-    cp.width = 1280;
-    cp.height = 720;
-    const auto cam = houle::make_camera(cp);
-    ASSERT_TRUE(cam.ok());
-    part.begin_frame(cx, cy);
-    part.restrict_to_view(cam.value());
-    houle::fill_gerstner(part, full.waves);
-    std::size_t filled = 0, total = 0, differ = 0;
-    for (std::uint32_t l = 0; l < part.config().levels; ++l) {
-      for (std::uint32_t j = 0; j < part.tiles_per_side(); ++j) {
-        for (std::uint32_t i = 0; i < part.tiles_per_side(); ++i) {
-          ++total;
-          if (!part.tile_filled(l, i, j)) continue;
-          ++filled;
-          const std::size_t k = std::size_t(j) * 16 * part.stride() + std::size_t(i) * 16;
-          differ += part.heights(l)[k] != full.frame.heights(l)[k];
+    for (bool slab : {false, true}) {
+      houle::CameraParams cp;
+      cp.position = {cx, cy, 6.0f};
+      cp.look_at = {cx + look[0], cy + look[1], 6.0f + look[2]};
+      if (look[0] == 0.5f) cp.up = {0.0f, 1.0f, 0.0f};  // straight down: the wedge keeps everything
+      cp.width = 1280;
+      cp.height = 720;
+      const auto cam = houle::make_camera(cp);
+      ASSERT_TRUE(cam.ok());
+      part.begin_frame(cx, cy);
+      if (slab) {
+        part.restrict_to_view(cam.value(), full.frame.z_min(), full.frame.z_max());
+      } else {
+        part.restrict_to_view(cam.value());
+      }
+      houle::fill_gerstner(part, full.waves);
+      std::size_t filled = 0, total = 0, differ = 0;
+      for (std::uint32_t l = 0; l < part.config().levels; ++l) {
+        for (std::uint32_t j = 0; j < part.tiles_per_side(); ++j) {
+          for (std::uint32_t i = 0; i < part.tiles_per_side(); ++i) {
+            ++total;
+            if (!part.tile_filled(l, i, j)) continue;
+            ++filled;
+            const std::size_t k = std::size_t(j) * 16 * part.stride() + std::size_t(i) * 16;
+            differ += part.heights(l)[k] != full.frame.heights(l)[k];
+          }
         }
       }
-    }
-    EXPECT_EQ(differ, 0u);
-    Rays r;
-    for (std::size_t k = 0; k < houle::test::emulation_scaled(800); ++k) {
-      const auto d = houle::camera_ray(cam.value(), u(rng) * 1280.0f, u(rng) * 720.0f);
-      r.add(cx, cy, 6.0f, d[0], d[1], d[2]);
-    }
-    houle::MarchParams p = default_params();
-    p.pixel_angle = cam.value().pixel_angle;
-    const Comparison c = compare_with_reference(part, p, r);
-    char what[128];
-    std::snprintf(what, sizeof what, "view-restricted fill, look (%g %g %g): %.0f%% of tiles filled", look[0], look[1],
-                  look[2], 100.0 * double(filled) / double(total));
-    print(what, c);
-    EXPECT_EQ(c.missed, 0u);
-    EXPECT_EQ(c.spurious, 0u);
-    Hits a(r.size()), b(r.size());
-    houle::march_rays(part, p, r.view(), r.size(), a.view());
-    houle::march_rays(full.frame, p, r.view(), r.size(), b.view());
-    for (std::size_t i = 0; i < r.size(); ++i) {
-      ASSERT_EQ(a.status[i], b.status[i]) << i;
-      if (is_hit(a.status[i])) {
-        EXPECT_NEAR(a.t[i], b.t[i], 1e-3f + 1e-5f * b.t[i]) << i;
+      EXPECT_EQ(differ, 0u);
+      Rays r;
+      for (std::size_t k = 0; k < houle::test::emulation_scaled(800); ++k) {
+        const auto d = houle::camera_ray(cam.value(), u(rng) * 1280.0f, u(rng) * 720.0f);
+        r.add(cx, cy, 6.0f, d[0], d[1], d[2]);
       }
-    }
-    if (look[2] > -50.0f) {
-      EXPECT_LT(filled * 2, total);  // a 91 degree wide view: well under half
+      houle::MarchParams p = default_params();
+      p.pixel_angle = cam.value().pixel_angle;
+      const Comparison c = compare_with_reference(part, p, r);
+      char what[128];
+      std::snprintf(what, sizeof what, "view-restricted fill (%s), look (%g %g %g): %.0f%% of tiles filled",
+                    slab ? "slab" : "wedge", look[0], look[1], look[2], 100.0 * double(filled) / double(total));
+      print(what, c);
+      EXPECT_EQ(c.missed, 0u);
+      EXPECT_EQ(c.spurious, 0u);
+      Hits a(r.size()), b(r.size());
+      houle::march_rays(part, p, r.view(), r.size(), a.view());
+      houle::march_rays(full.frame, p, r.view(), r.size(), b.view());
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        ASSERT_EQ(a.status[i], b.status[i]) << i;
+        if (is_hit(a.status[i])) {
+          EXPECT_NEAR(a.t[i], b.t[i], 1e-3f + 1e-5f * b.t[i]) << i;
+        }
+      }
+      if (look[2] > -50.0f || slab) {
+        EXPECT_LT(filled * 2, total);  // a 91 degree wide view: well under half
+      }
     }
   }
 }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
@@ -452,6 +453,86 @@ TEST(SurfaceFrame, KeepsTheStaticPartForTheFillsOfOneLayout) {
   modes.clear();
   for (int k = 0; k < 3; ++k) modes += fill(cam(3.0f, 4.0f, 10.0f), a);
   EXPECT_EQ(modes, "ooo");
+}
+
+// restrict_to_view with a slab keeps, of the tiles begin_frame marks, every one that holds a point a
+// camera ray can sample in the slab (corners of the image included) and the camera's own point; a
+// view straight down then fills a small part of them, and a view of the horizon its wedge as before.
+TEST(SurfaceFrame, RestrictionToTheViewsSliceOfTheSlabKeepsEveryTileARaySamples) {
+  const SurfaceFrameConfig cfg;  // the defaults: 8 levels
+  SurfaceFrame all = make_frame(cfg), part = make_frame(cfg), wedge = make_frame(cfg);
+  const float z_lo = -1.5f, z_hi = 2.0f;
+  struct Look {
+    float px, py, pz, dx, dy, dz, most_filled;
+  };
+  const Look looks[] = {
+      {120.0f, 100.0f, 120.0f, 0.1f, 0.0f, -1.0f, 0.4f},     // straight down, high (34 %)
+      {3.0f, -4.0f, 6.0f, 0.05f, 0.05f, -1.0f, 0.02f},       // straight down, low (1 %)
+      {-50.0f, 20.0f, 40.0f, 30.0f, 17.0f, -40.0f, 0.2f},    // steeply down, turned (17 %)
+      {7.0f, 9.0f, 0.5f, 1.0f, -2.0f, -0.6f, 0.35f},         // in the slab, the top corners up: the wedge (32 %)
+      {7.0f, 9.0f, -6.0f, -1.0f, 3.0f, 4.0f, 0.05f},         // under the slab, looking up (3 %)
+      {7.0f, 9.0f, 6.0f, 100.0f, 40.0f, -3.0f, 0.35f},       // the horizon: the wedge (29 %)
+  };
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const double tc = cfg.tile_cells;
+  // The tile of level l holding (x, y), or -1 outside the level's grid.
+  const auto tile_of = [&](const SurfaceFrame& f, std::uint32_t l, double x, double y, std::uint32_t& ti, std::uint32_t& tj) {
+    const houle::SurfaceLevel& s = f.level(l);
+    const double i = std::floor((x - s.origin_x) / (tc * s.cell)), j = std::floor((y - s.origin_y) / (tc * s.cell));
+    if (i < 0.0 || j < 0.0 || i >= f.tiles_per_side() || j >= f.tiles_per_side()) return false;
+    ti = std::uint32_t(i);
+    tj = std::uint32_t(j);
+    return true;
+  };
+  for (const Look& look : looks) {
+    houle::CameraParams cp;
+    cp.position = {look.px, look.py, look.pz};
+    cp.look_at = {look.px + look.dx, look.py + look.dy, look.pz + look.dz};
+    if (std::fabs(look.dz) > 10.0f * std::hypot(look.dx, look.dy)) cp.up = {0.0f, 1.0f, 0.0f};  // straight down or up
+    cp.width = 640;
+    cp.height = 360;
+    const auto cam = houle::make_camera(cp);
+    ASSERT_TRUE(cam.ok());
+    all.begin_frame(look.px, look.py);
+    part.begin_frame(look.px, look.py);
+    part.restrict_to_view(cam.value(), z_lo, z_hi);
+    wedge.begin_frame(look.px, look.py);
+    wedge.restrict_to_view(cam.value());
+    std::size_t marked = 0, filled = 0, wedge_filled = 0;
+    for (std::uint32_t l = 0; l < cfg.levels; ++l) {
+      for (std::uint32_t j = 0; j < part.tiles_per_side(); ++j) {
+        for (std::uint32_t i = 0; i < part.tiles_per_side(); ++i) {
+          marked += all.tile_filled(l, i, j);
+          filled += part.tile_filled(l, i, j);
+          wedge_filled += wedge.tile_filled(l, i, j);
+          EXPECT_TRUE(all.tile_filled(l, i, j) || !part.tile_filled(l, i, j));
+        }
+      }
+    }
+    const auto check = [&](double x, double y, const char* what) {
+      for (std::uint32_t l = 0; l < cfg.levels; ++l) {
+        std::uint32_t ti, tj;
+        if (!tile_of(all, l, x, y, ti, tj) || !all.tile_filled(l, ti, tj)) continue;
+        ASSERT_TRUE(part.tile_filled(l, ti, tj)) << what << " (" << x << ", " << y << ") level " << l << ", look "
+                                                 << look.dx << " " << look.dy << " " << look.dz;
+      }
+    };
+    check(look.px, look.py, "the camera's point");
+    for (int k = 0; k < 4000; ++k) {
+      const float ix = k < 4 ? float(k & 1) * 640.0f : u(rng) * 640.0f, iy = k < 4 ? float(k >> 1) * 360.0f : u(rng) * 360.0f;
+      const auto d = houle::camera_ray(cam.value(), ix, iy);
+      if (d[2] == 0.0f) continue;
+      const double ta = (double(z_lo) - look.pz) / d[2], tb = (double(z_hi) - look.pz) / d[2];
+      const double t1 = std::max(ta, tb), t0 = std::max(0.0, std::min(ta, tb));
+      if (t1 < 0.0) continue;
+      const double t = t0 + (t1 - t0) * (k % 3 == 0 ? double(k % 2) : double(u(rng)));
+      check(look.px + t * d[0], look.py + t * d[1], "a sample");
+    }
+    std::printf("look %g %g %g: %zu of %zu tiles, the wedge %zu\n", look.dx, look.dy, look.dz, filled, marked, wedge_filled);
+    EXPECT_LE(double(filled), look.most_filled * double(marked)) << look.dx << " " << look.dy << " " << look.dz;
+    EXPECT_LE(filled, wedge_filled);
+  }
 }
 
 // The marcher reads a cell's two nodes of a row as one pair (SurfaceFrameView::height_pairs): for every

@@ -205,49 +205,130 @@ struct Wedge {
   }
 };
 
+/// A convex polygon in the horizontal plane, counter-clockwise.
+struct Footprint {
+  static constexpr int max_points = 9;
+  double x[max_points], y[max_points];
+  int n = 0;
+
+  /// The convex hull of the points (Andrew's monotone chain); collinear points are dropped.
+  static Footprint hull(double (&px)[max_points], double (&py)[max_points], int count) {
+    int order[max_points];
+    for (int i = 0; i < count; ++i) order[i] = i;
+    std::sort(order, order + count, [&](int a, int b) { return px[a] < px[b] || (px[a] == px[b] && py[a] < py[b]); });
+    const auto turn = [&](int o, int a, int b) {
+      return (px[a] - px[o]) * (py[b] - py[o]) - (py[a] - py[o]) * (px[b] - px[o]);
+    };
+    int chain[2 * max_points], k = 0;
+    for (int i = 0; i < count; ++i) {  // lower hull
+      while (k >= 2 && turn(chain[k - 2], chain[k - 1], order[i]) <= 0.0) --k;
+      chain[k++] = order[i];
+    }
+    for (int i = count - 2, lower = k + 1; i >= 0; --i) {  // upper hull
+      while (k >= lower && turn(chain[k - 2], chain[k - 1], order[i]) <= 0.0) --k;
+      chain[k++] = order[i];
+    }
+    Footprint f;
+    f.n = std::max(k - 1, 1);  // the last point repeats the first
+    for (int i = 0; i < f.n; ++i) {
+      f.x[i] = px[chain[i]];
+      f.y[i] = py[chain[i]];
+    }
+    return f;
+  }
+
+  /// Separating axes: the box's (the polygon's extent) and the polygon's edge normals.
+  bool meets_box(double x0, double x1, double y0, double y1) const {
+    const auto [xlo, xhi] = std::minmax_element(x, x + n);
+    const auto [ylo, yhi] = std::minmax_element(y, y + n);
+    if (*xhi < x0 || *xlo > x1 || *yhi < y0 || *ylo > y1) return false;
+    for (int i = 0; i < n && n >= 3; ++i) {
+      const int j = i + 1 == n ? 0 : i + 1;
+      const double ex = x[j] - x[i], ey = y[j] - y[i];
+      // Outward normal (ey, -ex); the box is outside when its nearest corner is.
+      const double near = ey * ((ey > 0.0 ? x0 : x1) - x[i]) - ex * ((ex < 0.0 ? y0 : y1) - y[i]);
+      if (near > 0.0) return false;
+    }
+    return true;
+  }
+};
+
 }  // namespace
 
-void SurfaceFrame::restrict_to_view(const Camera& cam) noexcept {
-  // The frustum is the cone spanned by the four corner rays; its horizontal projection is the wedge
-  // spanned by their projections, or the whole plane when the frustum holds the vertical.
+void SurfaceFrame::restrict_to_view(const Camera& cam, float z_lo, float z_hi) noexcept {
+  // The frustum is the cone spanned by the four corner rays.
   const double th = 0.5 * double(cam.pixel_scale) * cam.width, tv = 0.5 * double(cam.pixel_scale) * cam.height;
+  const auto corners = [&](double widen, double (&d)[4][3]) {
+    for (int k = 0; k < 4; ++k) {
+      const double a = (k & 1 ? th : -th) * widen, b = (k & 2 ? tv : -tv) * widen;
+      for (int c = 0; c < 3; ++c) d[k][c] = double(cam.forward[c]) + a * double(cam.right[c]) + b * double(cam.up[c]);
+    }
+  };
+  const double tc = config_.tile_cells;
+  const auto keep_meeting = [&](const auto& region) {
+    for (std::uint32_t l = 0; l < config_.levels; ++l) {
+      const SurfaceLevel& s = levels_[l];
+      const double cell = s.cell, tile = tc * cell;
+      for (std::uint32_t tj = 0; tj < tiles_; ++tj) {
+        for (std::uint32_t ti = 0; ti < tiles_; ++ti) {
+          std::uint8_t& n = needed_[(std::size_t(l) * tiles_ + tj) * tiles_ + ti];
+          if (n == 0) continue;
+          const double x0 = s.origin_x + ti * tile, y0 = s.origin_y + tj * tile;
+          n = region.meets_box(x0 - cell, x0 + tile + cell, y0 - cell, y0 + tile + cell);
+        }
+      }
+    }
+  };
+  // With a slab and every corner ray crossing its planes the same way, the rays' samples lie in the
+  // frustum's slice of the slab: the hull of where the corner rays are in it, and of the camera's own
+  // point (SurfaceFrame::height_at is read there).
+  const double o[3] = {cam.position[0], cam.position[1], cam.position[2]};
+  double corner[4][3];
+  corners(1.001, corner);
+  int down = 0, up = 0;
+  for (const auto& d : corner) {
+    down += d[2] < -1e-6;
+    up += d[2] > 1e-6;
+  }
+  if (std::isfinite(z_lo) && std::isfinite(z_hi) && z_lo <= z_hi && (down == 4 || up == 4)) {
+    double px[Footprint::max_points], py[Footprint::max_points];
+    int count = 0;
+    px[count] = o[0];
+    py[count++] = o[1];
+    for (const auto& d : corner) {
+      const double ta = (double(z_lo) - o[2]) / d[2], tb = (double(z_hi) - o[2]) / d[2];
+      const double t1 = std::max(ta, tb);
+      if (t1 < 0.0) continue;  // this ray never reaches the slab
+      for (double t : {std::max(0.0, std::min(ta, tb)), t1}) {
+        px[count] = o[0] + t * d[0];
+        py[count++] = o[1] + t * d[1];
+      }
+    }
+    keep_meeting(Footprint::hull(px, py, count));
+    return;
+  }
+  // Otherwise their horizontal projection: the wedge spanned by the corner rays' projections, or the
+  // whole plane when the frustum holds the vertical.
   for (double vz : {-1.0, 1.0}) {
     const double x = vz * cam.right[2], y = vz * cam.up[2], z = vz * cam.forward[2];
     if (z > 0.0 && std::fabs(x) <= th * z * 1.001 && std::fabs(y) <= tv * z * 1.001) return;  // everything visible
   }
+  corners(1.0, corner);
   const double fx = cam.forward[0], fy = cam.forward[1], fn = std::hypot(fx, fy);
   if (!(fn > 1e-6)) return;
   double lo = 0.0, hi = 0.0;
-  for (double a : {-th, th}) {
-    for (double b : {-tv, tv}) {
-      const double x = cam.forward[0] + a * cam.right[0] + b * cam.up[0];
-      const double y = cam.forward[1] + a * cam.right[1] + b * cam.up[1];
-      if (!(std::hypot(x, y) > 1e-9)) return;  // a corner ray is vertical
-      const double angle = std::atan2(fx * y - fy * x, fx * x + fy * y);  // from the forward azimuth
-      lo = std::min(lo, angle);
-      hi = std::max(hi, angle);
-    }
+  for (const auto& d : corner) {
+    if (!(std::hypot(d[0], d[1]) > 1e-9)) return;  // a corner ray is vertical
+    const double angle = std::atan2(fx * d[1] - fy * d[0], fx * d[0] + fy * d[1]);  // from the forward azimuth
+    lo = std::min(lo, angle);
+    hi = std::max(hi, angle);
   }
   constexpr double margin = 1e-3;  // rad
   lo -= margin;
   hi += margin;
   if (hi - lo >= 3.1) return;  // (nearly) a half plane or more: keep everything
   const double phi = std::atan2(fy, fx);
-  const Wedge w{cam.position[0], cam.position[1], std::cos(phi + lo), std::sin(phi + lo), std::cos(phi + hi),
-                std::sin(phi + hi)};
-  const double tc = config_.tile_cells;
-  for (std::uint32_t l = 0; l < config_.levels; ++l) {
-    const SurfaceLevel& s = levels_[l];
-    const double cell = s.cell, tile = tc * cell;
-    for (std::uint32_t tj = 0; tj < tiles_; ++tj) {
-      for (std::uint32_t ti = 0; ti < tiles_; ++ti) {
-        std::uint8_t& n = needed_[(std::size_t(l) * tiles_ + tj) * tiles_ + ti];
-        if (n == 0) continue;
-        const double x0 = s.origin_x + ti * tile, y0 = s.origin_y + tj * tile;
-        n = w.meets_box(x0 - cell, x0 + tile + cell, y0 - cell, y0 + tile + cell);
-      }
-    }
-  }
+  keep_meeting(Wedge{o[0], o[1], std::cos(phi + lo), std::sin(phi + lo), std::cos(phi + hi), std::sin(phi + hi)});
 }
 
 void SurfaceFrame::set_viewer(const Camera& camera) noexcept {

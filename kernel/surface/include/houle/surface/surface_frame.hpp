@@ -33,6 +33,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 
 #include "houle/runtime/assert.hpp"
@@ -135,10 +136,15 @@ class SurfaceFrame {
   /// undefined until filled and finished.
   void begin_frame(float centre_x, float centre_y) noexcept;
   /// Optional, after begin_frame: fill only the tiles that rays from the camera position through its
-  /// image can sample (the frustum's horizontal wedge, plus a cell), typically a quarter of them. The
-  /// frame is then valid for those rays only: rays from elsewhere or leaving the wedge read stale
-  /// heights (and conservative bounds, so nothing breaks). Does nothing when the frustum holds the vertical.
-  void restrict_to_view(const Camera& camera) noexcept;
+  /// image can sample, plus a cell, and the camera's own point. With a slab [z_lo, z_hi] that holds
+  /// every sample the rays will take (the frame's z_min() and z_max() once filled: the caller checks)
+  /// and every corner ray going down (or every one up), that is the frustum's slice of the slab: a top-
+  /// down view fills a few levels. Otherwise it is the frustum's horizontal wedge, typically a quarter
+  /// of the tiles, or everything when the frustum holds the vertical. The frame is then valid for those
+  /// rays only: rays from elsewhere or leaving the region read stale heights (and conservative bounds,
+  /// so nothing breaks).
+  void restrict_to_view(const Camera& camera, float z_lo = -std::numeric_limits<float>::infinity(),
+                        float z_hi = std::numeric_limits<float>::infinity()) noexcept;
   /// Optional, after begin_frame: the fill's samplers are told the footprint of `camera`'s pixels at
   /// each node (NodeFootprint), so that they leave out what those pixels cannot resolve. Without it
   /// only the node spacing limits them.
