@@ -213,9 +213,16 @@ struct Footprint {
 
   /// The convex hull of the points (Andrew's monotone chain); collinear points are dropped.
   static Footprint hull(double (&px)[max_points], double (&py)[max_points], int count) {
+    // By x, then y: insertion sort (std::sort's insertion pass, unrolled for its threshold of 16,
+    // trips gcc 12's -Warray-bounds on nine elements).
     int order[max_points];
-    for (int i = 0; i < count; ++i) order[i] = i;
-    std::sort(order, order + count, [&](int a, int b) { return px[a] < px[b] || (px[a] == px[b] && py[a] < py[b]); });
+    for (int i = 0; i < count; ++i) {
+      int j = i;
+      for (; j > 0 && (px[order[j - 1]] > px[i] || (px[order[j - 1]] == px[i] && py[order[j - 1]] > py[i])); --j) {
+        order[j] = order[j - 1];
+      }
+      order[j] = i;
+    }
     const auto turn = [&](int o, int a, int b) {
       return (px[a] - px[o]) * (py[b] - py[o]) - (py[a] - py[o]) * (px[b] - px[o]);
     };
