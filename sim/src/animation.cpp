@@ -131,10 +131,7 @@ Expected<Animation> Animation::create(const Scene& scene_in, const Quality& qual
     Expected<CapillaryFrame> probe = make_capillary_frame(p, 0.0);
     if (!probe) return Error{"capillary", probe.error().message};
     a.noise_params_ = p;
-    // The marcher widens the slab by its octaves' bounds, whose sum is this one to a ten-thousandth.
-    a.noise_height_ = capillary_height_bound(p, capillary_top_level(p)) * 1.01f + 0.01f;
   }
-  a.view_slab_ = float(float_bound * 1.001 + 0.01);
   a.cost_ = cost;
   a.build_ms_ = ms_since(t0);
   return a;
@@ -169,13 +166,17 @@ void Animation::render(double time_s, Framebuffer& out) noexcept {
     }
   }
   // Every ray the renderer marches over the sea starts at the camera and samples within the frame's
-  // slab: the sea's height bound (which bounds every node) widened by the noise's.
-  const float slab = view_slab_ + noise_height_;
+  // slab: the sea's height bound (which bounds every node) widened by the noise's (the marcher's
+  // octave bounds sum to it within a ten-thousandth).
+  const float sea_bound = float(float_bound_ * 1.001 + 0.01);
+  const float noise_bound =
+      noise_params_ ? capillary_height_bound(*noise_params_, capillary_top_level(*noise_params_)) : 0.0f;
+  const float slab = sea_bound + noise_bound * 1.01f + 0.01f;
   surface_.begin_frame(camera_.position[0], camera_.position[1]);
   surface_.restrict_to_view(camera_, -slab, slab);
   surface_.set_viewer(camera_);  // and its pixels set what the nodes can hold
   renderer_.fill_surface(surface_, &SeaSurface::sample, sea_.get());
-  HOULE_ASSERT(surface_.view().global.h_min >= -view_slab_ && surface_.view().global.h_max <= view_slab_,
+  HOULE_ASSERT(surface_.view().global.h_min >= -sea_bound && surface_.view().global.h_max <= sea_bound,
                "Animation::render: the sea within its height bound");
   times_.surface_ms = ms_since(t0);
   t0 = Clock::now();
@@ -186,8 +187,7 @@ void Animation::render(double time_s, Framebuffer& out) noexcept {
       noise_ = f.value();
       noise = &noise_;
       ++noise_frames_;
-      const float top = capillary_top_level(*noise_params_);
-      surface_.set_noise_bounds(capillary_height_bound(*noise_params_, top), capillary_slope_bound(*noise_params_, top));
+      surface_.set_noise_bounds(noise_bound, capillary_slope_bound(*noise_params_, capillary_top_level(*noise_params_)));
     }
   }
   times_.noise_ms = ms_since(t0);

@@ -476,7 +476,7 @@ TEST(SurfaceFrame, RestrictionToTheViewsSliceOfTheSlabKeepsEveryTileARaySamples)
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   const double tc = cfg.tile_cells;
-  // The tile of level l holding (x, y), or -1 outside the level's grid.
+  // The tile of level l holding (x, y); false outside the level's grid.
   const auto tile_of = [&](const SurfaceFrame& f, std::uint32_t l, double x, double y, std::uint32_t& ti, std::uint32_t& tj) {
     const houle::SurfaceLevel& s = f.level(l);
     const double i = std::floor((x - s.origin_x) / (tc * s.cell)), j = std::floor((y - s.origin_y) / (tc * s.cell));

@@ -275,10 +275,8 @@ void train_grid_eval(const TrainGridFrame& f, const float* x, const float* y, st
   });
 }
 
-/// The kept path's floats per train and batch of points: its 11 fields, each a vector
-/// (train_grid_keep_floats per point).
-inline constexpr int kept_train_floats = 11;
-static_assert(train_grid_keep_floats(1) == kept_train_floats);
+/// The kept path's fields per train, each a vector per batch of points.
+inline constexpr int kept_train_floats = int(train_grid_keep_floats(1));
 
 template <class A>
 void train_grid_eval_filtered(const TrainGridFrame& f, const float* x, const float* y, std::size_t n,

@@ -87,8 +87,6 @@ class Animation {
   double build_ms_ = 0.0;
   BuildCost cost_{};
   std::uint64_t noise_frames_ = 0;
-  float view_slab_ = 0.0f;     ///< m, the sea's height bound with a margin: every node is within +-view_slab_
-  float noise_height_ = 0.0f;  ///< m, what the noise (0 without) widens the marcher's slab by, at most
 };
 
 }  // namespace houle
