@@ -1,8 +1,12 @@
 // Pinhole camera: frame, pixel angle, and row rays equal to single rays.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <random>
+#include <vector>
 
+#include "houle/runtime/isa.hpp"
 #include "houle/surface/camera.hpp"
 
 namespace {
@@ -58,6 +62,51 @@ TEST(Camera, RowRaysEqualSingleRaysAndAreUnit) {
       EXPECT_NEAR(dot(d, d), 1.0, 1e-6);
     }
   }
+}
+
+// Every ISA's row kernel against the scalar one at 0 ulp (the same template, with a correctly rounded
+// sqrt and division and no contraction), over random cameras, offsets and spans of a row that start
+// anywhere and end in every kind of tail (8k+3, 16k+3, shorter than a batch).
+TEST(Camera, RowRaysGiveTheScalarBitsOnEveryIsa) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> coord(-300.0f, 300.0f), u01(0.0f, 1.0f);
+  const std::vector<std::size_t> sizes = {0, 1, 2, 3, 7, 8, 9, 15, 16, 17, 8 * 5 + 3, 8 * 37 + 3, 16 * 20 + 3, 1280};
+  std::size_t compared = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    houle::CameraParams p;
+    p.position = {coord(rng), coord(rng), 1.0f + 50.0f * u01(rng)};
+    p.look_at = {coord(rng), coord(rng), -10.0f * u01(rng)};
+    p.vertical_fov = 0.2f + 2.0f * u01(rng);
+    p.width = 1280 + std::uint32_t(trial);
+    p.height = 720;
+    const auto cam = houle::make_camera(p);
+    ASSERT_TRUE(cam.ok());
+    for (std::size_t n : sizes) {
+      const std::uint32_t x0 = std::uint32_t(u01(rng) * float(p.width - n));
+      const std::uint32_t row = std::uint32_t(u01(rng) * float(p.height - 1));
+      const float sub_x = u01(rng), sub_y = u01(rng);
+      std::vector<float> ref(3 * n + 1), got(3 * n + 1);
+      houle::camera_row_rays(houle::Isa::scalar, cam.value(), row, x0, n, sub_x, sub_y, ref.data(), ref.data() + n,
+                             ref.data() + 2 * n);
+      for (houle::Isa isa : houle::supported_isas()) {
+        std::fill(got.begin(), got.end(), -7.0f);  // the last entry must stay: nothing written past n
+        houle::camera_row_rays(isa, cam.value(), row, x0, n, sub_x, sub_y, got.data(), got.data() + n,
+                               got.data() + 2 * n);
+        for (std::size_t i = 0; i < 3 * n; ++i) {
+          ASSERT_EQ(std::bit_cast<std::uint32_t>(got[i]), std::bit_cast<std::uint32_t>(ref[i]))
+              << houle::isa_name(isa) << ": n " << n << ", entry " << i;
+        }
+        EXPECT_EQ(got[3 * n], -7.0f) << houle::isa_name(isa) << ": n " << n;
+        compared += n;
+      }
+      if (n > 0) {  // and the scalar row is camera_ray's
+        const auto d = houle::camera_ray(cam.value(), float(x0 + n - 1) + sub_x, float(row) + sub_y);
+        EXPECT_EQ(d[0], ref[n - 1]);
+        EXPECT_EQ(d[2], ref[3 * n - 1]);
+      }
+    }
+  }
+  EXPECT_GT(compared, 8u * 3000u);
 }
 
 TEST(Camera, RejectsDegenerateInput) {

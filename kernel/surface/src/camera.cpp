@@ -4,6 +4,8 @@
 #include <numbers>
 
 #include "houle/runtime/assert.hpp"
+#include "houle/simd/dispatch.hpp"
+#include "surface_table.hpp"
 
 namespace houle {
 namespace {
@@ -57,29 +59,29 @@ Expected<Camera> make_camera(const CameraParams& p) {
   return cam;
 }
 
-void camera_row_rays(const Camera& c, std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x, float sub_y,
-                     float* dx, float* dy, float* dz) noexcept {
+namespace {
+void check_row(const Camera& c, std::uint32_t row, std::uint32_t x0, std::size_t n, const float* dx, const float* dy,
+               const float* dz) noexcept {
   HOULE_ASSERT(row < c.height && x0 <= c.width && n <= c.width - x0, "camera_row_rays: pixels of the image");
   HOULE_ASSERT(n == 0 || (dx != nullptr && dy != nullptr && dz != nullptr), "camera_row_rays: n floats in dx, dy, dz");
-  // Image-plane point at unit distance: forward + a right + b up, a and b in pixel_scale units from
-  // the image centre. The row's part (forward + b up) is shared; float throughout (the directions feed
-  // a float marcher) with a correctly rounded sqrt and division, so every build gives the same bits.
-  const float b = (0.5f * float(c.height) - (float(row) + sub_y)) * c.pixel_scale;
-  const float vx = c.forward[0] + b * c.up[0], vy = c.forward[1] + b * c.up[1], vz = c.forward[2] + b * c.up[2];
-  const float half_w = 0.5f * float(c.width);
-  for (std::size_t i = 0; i < n; ++i) {
-    const float a = ((float(x0) + float(i) + sub_x) - half_w) * c.pixel_scale;
-    const float x = vx + a * c.right[0], y = vy + a * c.right[1], z = vz + a * c.right[2];
-    const float inv = 1.0f / std::sqrt(x * x + y * y + z * z);
-    dx[i] = x * inv;
-    dy[i] = y * inv;
-    dz[i] = z * inv;
-  }
+}
+}  // namespace
+
+void camera_row_rays(const Camera& c, std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x, float sub_y,
+                     float* dx, float* dy, float* dz) noexcept {
+  check_row(c, row, x0, n, dx, dy, dz);
+  simd::active_table<detail::SurfaceTable>().camera_row_rays(c, row, x0, n, sub_x, sub_y, dx, dy, dz);
+}
+
+void camera_row_rays(Isa isa, const Camera& c, std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x,
+                     float sub_y, float* dx, float* dy, float* dz) noexcept {
+  check_row(c, row, x0, n, dx, dy, dz);
+  simd::table_for<detail::SurfaceTable>(isa).camera_row_rays(c, row, x0, n, sub_x, sub_y, dx, dy, dz);
 }
 
 std::array<float, 3> camera_ray(const Camera& c, float image_x, float image_y) noexcept {
-  // The operations of camera_row_rays in the same order (float(row) + sub_y == image_y exactly), so
-  // both give the same bits for the same image point.
+  // The operations of camera_row_rays (camera_impl.hpp) in the same order (float(row) + sub_y ==
+  // image_y exactly), so both give the same bits for the same image point.
   const float b = (0.5f * float(c.height) - image_y) * c.pixel_scale;
   const float vx = c.forward[0] + b * c.up[0], vy = c.forward[1] + b * c.up[1], vz = c.forward[2] + b * c.up[2];
   const float a = (image_x - 0.5f * float(c.width)) * c.pixel_scale;

@@ -1,7 +1,9 @@
 // The surface room's per-ISA function table (see houle/simd/dispatch.hpp).
 #pragma once
 #include <cstddef>
+#include <cstdint>
 
+#include "houle/surface/camera.hpp"
 #include "houle/surface/capillary.hpp"
 #include "houle/surface/gerstner.hpp"
 #include "houle/surface/train_grid.hpp"
@@ -11,6 +13,8 @@
 namespace houle::detail {
 
 struct SurfaceTable {
+  void (*camera_row_rays)(const Camera&, std::uint32_t, std::uint32_t, std::size_t, float, float, float*, float*,
+                          float*) noexcept;
   void (*gerstner_eval)(const GerstnerFrame&, const float*, const float*, std::size_t, GerstnerOutput, int) noexcept;
   void (*capillary_eval)(const CapillaryFrame&, const float*, const float*, const float*, std::size_t, float*, float*,
                          float*) noexcept;

@@ -10,6 +10,7 @@
 #pragma once
 #include <algorithm>
 #include <cstddef>
+#include <iterator>
 
 #include "houle/simd/simd.hpp"
 
@@ -18,6 +19,10 @@
 #define HOULE_BATCH_BODY __attribute__((always_inline))
 
 namespace houle::simd {
+
+/// 0, 1, 2, ... : a batch's lane numbers (Batch::indices).
+alignas(64) inline constexpr float lane_numbers[16] = {0.0f, 1.0f, 2.0f,  3.0f,  4.0f,  5.0f,  6.0f,  7.0f,
+                                                       8.0f, 9.0f, 10.0f, 11.0f, 12.0f, 13.0f, 14.0f, 15.0f};
 
 /// One batch of a loop over n elements: elements index() to index() + lanes() - 1. Tail is true for
 /// the last, partial batch: its loads go through a copy padded with `pad`, its stores through a copy
@@ -30,6 +35,11 @@ class Batch {
   Batch(std::size_t index, std::size_t lanes) : index_(index), lanes_(lanes) {}
   std::size_t index() const { return index_; }
   std::size_t lanes() const { return Tail ? lanes_ : W; }
+  /// The lanes' element indices, index() onwards, as floats (exact below 2^24).
+  vfloat<A> indices() const {
+    static_assert(W <= std::size(lane_numbers));
+    return vfloat<A>(float(index_)) + simd::load<A>(lane_numbers);
+  }
 
   /// p[index()] onwards; padding lanes (in the tail) get `pad`, which should be a harmless input.
   vfloat<A> load(const float* p, float pad = 0.0f) const {

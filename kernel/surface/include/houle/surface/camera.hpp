@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "houle/runtime/expected.hpp"
+#include "houle/runtime/isa.hpp"
 
 namespace houle {
 
@@ -45,8 +46,12 @@ std::array<float, 3> camera_ray(const Camera& camera, float image_x, float image
 
 /// Directions for pixels x0 .. x0 + n - 1 of `row`, each at offset (sub_x, sub_y) inside its pixel
 /// (0.5, 0.5 = centre; supersampling passes other offsets in [0, 1)). Writes n floats to each of dx,
-/// dy, dz (any alignment). Same values as camera_ray, computed with the row's common terms hoisted.
+/// dy, dz (any alignment). Same values as camera_ray, computed with the row's common terms hoisted,
+/// with the dispatched ISA (every ISA gives the same bits).
 void camera_row_rays(const Camera& camera, std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x,
+                     float sub_y, float* dx, float* dy, float* dz) noexcept;
+/// The same on a given ISA (it must be supported): for tests and benchmarks.
+void camera_row_rays(Isa isa, const Camera& camera, std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x,
                      float sub_y, float* dx, float* dy, float* dz) noexcept;
 
 }  // namespace houle
