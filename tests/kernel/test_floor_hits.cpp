@@ -251,6 +251,33 @@ TEST(FloorHits, LetsThroughEveryRayThatMeetsAnObjectBeforeTheFloor) {
   EXPECT_GT(met, 1500);
 }
 
+TEST(FloorHits, SendsNoRayThroughTheWaterBetweenTwoWallsToTheWalk) {
+  // A detached breakwater along y = 120 and a wall along x = 160 that starts 20 m north of it, each
+  // of 2 m stone blocks (as make_render_scene draws walls): one box around both holds 45 x 80 m of
+  // open water. Rays down through that water, and rays up out of it, none nearer than 3 m to a
+  // block, must not be sent to SceneObjects' walk; rays down onto the blocks must.
+  houle::RenderScene s;
+  for (int k = 0; k < 25; ++k) s.boxes.push_back({{81.0f + 2.0f * float(k), 120.0f, 0.0f}, {1.0f, 2.0f, 2.0f}, 0.0f, {0.5f, 0.5f, 0.5f}});
+  for (int k = 0; k < 30; ++k) s.boxes.push_back({{160.0f, 141.0f + 2.0f * float(k), 0.0f}, {2.0f, 1.0f, 2.0f}, 0.0f, {0.5f, 0.5f, 0.5f}});
+  const SceneObjects o = SceneObjects::build(s).value();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  FloorTestRays open, onto;
+  while (open.size() < 2000) {
+    const float x = 80.0f + 80.0f * u(rng), y = 118.0f + 82.0f * u(rng);
+    const bool near_breakwater = x < 133.0f && y < 125.0f, near_wall = x > 155.0f && y > 136.0f;
+    if (near_breakwater || near_wall) continue;
+    open.add(x, y, 0.2f, 0.1f * (u(rng) - 0.5f), 0.1f * (u(rng) - 0.5f), open.size() % 2 == 0 ? -1.0f : 1.0f, 10.0f);
+  }
+  for (int k = 0; k < 200; ++k) onto.add(80.5f + 49.0f * u(rng), 118.5f + 3.0f * u(rng), 5.0f, 0.0f, 0.0f, -1.0f, 10.0f);
+  const WaterOut h = hits_of(o, open), h_onto = hits_of(o, onto);
+  for (std::size_t k = 0; k < open.size(); ++k) {
+    ASSERT_EQ(o.intersect_objects(open.ray(k), 0.0, 10.0).kind, houle::detail::HitKind::none) << k;
+    EXPECT_EQ(h.objects[k], 0.0f) << open.ox[k] << ", " << open.oy[k];
+  }
+  for (std::size_t k = 0; k < onto.size(); ++k) EXPECT_EQ(h_onto.objects[k], 1.0f) << k;
+}
+
 TEST(FloorHits, EveryIsaMatchesScalarIncludingTails) {
   // Stated tolerance: 0 ulp (+, -, *, simd::div, simd::sqrt, gathers), but for ARMv7 NEON, which
   // flushes subnormals: 64 ulp or 1e-6 absolute, as in test_optics.cpp; which rays are left to

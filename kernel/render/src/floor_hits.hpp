@@ -41,10 +41,16 @@ struct FloorGridView {
   FloorBand bands[floor_bands] = {};
 };
 
-/// A box holding every box and sphere of the scene, wherever the moving ones may go
-/// (SceneObjects::object_bounds); lo > hi for none.
+/// Where the scene's boxes and spheres are, wherever the moving ones may go (SceneObjects::object_bounds):
+/// a box around them all, and boxes that together hold them all (a cut through its hierarchy). The
+/// second, because one box around a dog-legged jetty, or around objects far apart, holds much empty
+/// water that rays would be sent through SceneObjects' walk for; the first, so that a packet tests
+/// them only where it may meet one. count 0 for none.
+inline constexpr int max_object_bounds = 16;
 struct ObjectBounds {
-  float lo[3] = {1.0f, 1.0f, 1.0f}, hi[3] = {0.0f, 0.0f, 0.0f};  ///< m
+  int count = 0;
+  float all_lo[3] = {}, all_hi[3] = {};  ///< m
+  float lo[max_object_bounds][3] = {}, hi[max_object_bounds][3] = {};  ///< m
 };
 
 /// Rays from (ox, oy, oz) along the unit (dx, dy, dz), each met up to t_max (m).

@@ -146,24 +146,38 @@ inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid,
   return h;
 }
 
-/// Whether each lane's ray may meet the box b with t in [0, t_end]: a slab test against b grown by
-/// more than the test's float rounding along such a ray (1e-5 of its coordinates' and length's
-/// magnitude), so that it says no only where the exact test would. Where a ray lies in a slab's plane
-/// the NaN leaves that slab out: conservative too.
+/// Whether each lane's ray may meet the box lo..hi with t in [0, t_end]: a slab test against the box
+/// grown by `margin`. Where a ray lies in a slab's plane the NaN leaves that slab out: conservative.
+/// A box inside another meets a subset of its rays: float rounding keeps the order of the planes.
+template <class A>
+inline simd::vmask<A> meets_box(const float (&lo)[3], const float (&hi)[3], const simd::vfloat<A> (&o)[3],
+                                const simd::vfloat<A> (&inv)[3], simd::vfloat<A> margin, simd::vfloat<A> t_end) {
+  using V = simd::vfloat<A>;
+  V t0(0.0f), t1 = t_end;
+  for (int k = 0; k < 3; ++k) {
+    const V ta = (V(lo[k]) - margin - o[k]) * inv[k], tb = (V(hi[k]) + margin - o[k]) * inv[k];
+    t0 = max_as_std(t0, min_as_std(ta, tb));
+    t1 = min_as_std(t1, max_as_std(ta, tb));
+  }
+  return t0 <= t1;
+}
+
+/// Whether each lane's ray may meet one of the boxes of b with t in [0, t_end], the boxes grown by
+/// more than the tests' float rounding along such a ray (1e-5 of its coordinates' and length's
+/// magnitude), so that it says no only where the exact test would. The box around them all first:
+/// a lane that misses it misses them all, so the result does not depend on the other lanes.
 template <class A>
 inline simd::vmask<A> may_meet(const ObjectBounds& b, simd::vfloat<A> ox, simd::vfloat<A> oy, simd::vfloat<A> oz,
                                simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz, simd::vfloat<A> t_end) {
   using V = simd::vfloat<A>;
   const V margin = V(1e-3f) + V(1e-5f) * (simd::abs(ox) + simd::abs(oy) + simd::abs(oz) + t_end);
-  V t0(0.0f), t1 = t_end;
-  const V o[3] = {ox, oy, oz}, d[3] = {dx, dy, dz};
-  for (int k = 0; k < 3; ++k) {
-    const V inv = simd::div(V(1.0f), d[k]);
-    const V ta = (V(b.lo[k]) - margin - o[k]) * inv, tb = (V(b.hi[k]) + margin - o[k]) * inv;
-    t0 = max_as_std(t0, min_as_std(ta, tb));
-    t1 = min_as_std(t1, max_as_std(ta, tb));
-  }
-  return t0 <= t1;
+  const V o[3] = {ox, oy, oz};
+  const V inv[3] = {simd::div(V(1.0f), dx), simd::div(V(1.0f), dy), simd::div(V(1.0f), dz)};
+  simd::vmask<A> meet = meets_box<A>(b.all_lo, b.all_hi, o, inv, margin, t_end);
+  if (!simd::any(meet)) return meet;
+  meet = simd::vmask<A>(false);
+  for (int i = 0; i < b.count; ++i) meet = meet | meets_box<A>(b.lo[i], b.hi[i], o, inv, margin, t_end);
+  return meet;
 }
 
 /// floor_hit_lanes of n rays (a ray with t_max > 0, not NaN, is valid), and may_meet of the object
@@ -177,9 +191,8 @@ void floor_hits_batch(const FloorGridView& f, const ObjectBounds& bounds, const 
     const V dx = b.load(in.dx), dy = b.load(in.dy), dz = b.load(in.dz, -1.0f);
     const auto valid = t_max > V(0.0f);
     const FloorHit<A> h = floor_hit_lanes<A>(f, valid, ox, oy, oz, dx, dy, dz, t_max);
-    const bool objects = bounds.lo[0] <= bounds.hi[0];
     simd::vmask<A> meet(false);
-    if (objects && simd::any(valid)) {
+    if (bounds.count > 0 && simd::any(valid)) {
       const simd::vmask<A> may = may_meet<A>(bounds, ox, oy, oz, dx, dy, dz, min_as_std(h.t, t_max));
       meet = valid & may;
     }

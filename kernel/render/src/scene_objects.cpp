@@ -217,12 +217,6 @@ void SceneObjects::build_floor_grid() {
   }
 }
 
-ObjectBounds SceneObjects::object_bounds() const noexcept {
-  if (nodes_.empty()) return {};
-  const Node& root = nodes_[0];
-  return {{root.lo[0], root.lo[1], root.lo[2]}, {root.hi[0], root.hi[1], root.hi[2]}};
-}
-
 FloorGridView SceneObjects::floor_grid() const noexcept {
   if (grid_z_.empty()) {
     FloorGridView none;
@@ -329,8 +323,10 @@ void SceneObjects::build_bvh() {
   nodes_.clear();
   primitives_.clear();
   if (prims.empty()) return;
-  // Median split on the longest axis of the centres, leaves of up to two primitives: the tree's depth
-  // is log2 of the count, far below max_bvh_depth for any scene that fits in memory.
+  // Median split on the longest axis of the centres, a primitive per leaf (a leaf of two could hold a
+  // block of each of two walls far apart, and its box the water between them: cut_bounds and the
+  // walk would send rays there): the tree's depth is log2 of the count, far below max_bvh_depth for
+  // any scene that fits in memory.
   nodes_.reserve(2 * prims.size());
   struct Task {
     std::uint32_t node, begin, end;
@@ -353,7 +349,7 @@ void SceneObjects::build_bvh() {
         chi[a] = std::max(chi[a], prims[k].centre[a]);
       }
     }
-    if (t.end - t.begin <= 2) {
+    if (t.end - t.begin == 1) {
       nd.first = std::uint32_t(primitives_.size());
       nd.count = t.end - t.begin;
       for (std::uint32_t k = t.begin; k < t.end; ++k) primitives_.push_back(prims[k].id);
@@ -373,6 +369,37 @@ void SceneObjects::build_bvh() {
       todo.push_back({nd.first + 1, mid, t.end});
     }
     nodes_[t.node] = nd;
+  }
+  cut_bounds();
+}
+
+void SceneObjects::cut_bounds() {
+  // From the root down, the node of the largest surface area is replaced by its two children while
+  // they fit: the rays a box lets through grow with its area.
+  const auto area = [&](std::uint32_t k) {
+    const Node& nd = nodes_[k];
+    const double x = double(nd.hi[0]) - nd.lo[0], y = double(nd.hi[1]) - nd.lo[1], z = double(nd.hi[2]) - nd.lo[2];
+    return x * y + y * z + z * x;
+  };
+  bounds_ = {};
+  if (nodes_.empty()) return;
+  std::vector<std::uint32_t> cut{0};
+  while (cut.size() < std::size_t(max_object_bounds)) {
+    std::size_t widest = cut.size();
+    for (std::size_t i = 0; i < cut.size(); ++i) {
+      if (nodes_[cut[i]].count == 0 && (widest == cut.size() || area(cut[i]) > area(cut[widest]))) widest = i;
+    }
+    if (widest == cut.size()) break;  // only leaves
+    const std::uint32_t first = nodes_[cut[widest]].first;
+    cut[widest] = first;
+    cut.push_back(first + 1);
+  }
+  bounds_.count = int(cut.size());
+  std::copy_n(nodes_[0].lo, 3, bounds_.all_lo);
+  std::copy_n(nodes_[0].hi, 3, bounds_.all_hi);
+  for (std::size_t i = 0; i < cut.size(); ++i) {
+    std::copy_n(nodes_[cut[i]].lo, 3, bounds_.lo[i]);
+    std::copy_n(nodes_[cut[i]].hi, 3, bounds_.hi[i]);
   }
 }
 

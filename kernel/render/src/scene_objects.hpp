@@ -64,8 +64,9 @@ class SceneObjects {
   SurfaceHit intersect_objects(const SceneRay& ray, double t_min, double t_max) const noexcept {
     return hit_objects(ray, t_min, t_max);
   }
-  /// A box holding every box and sphere, wherever the moving ones may go (the hierarchy's root).
-  ObjectBounds object_bounds() const noexcept;
+  /// Boxes holding every box and sphere, wherever the moving ones may go: the hierarchy's nodes on a
+  /// cut through it, taken at build.
+  const ObjectBounds& object_bounds() const noexcept { return bounds_; }
   /// The floor as floor_hits reads it (nx = 0 without a floor, and too_large for one beyond its
   /// 32-bit indices).
   FloorGridView floor_grid() const noexcept;
@@ -148,6 +149,8 @@ class SceneObjects {
   static constexpr int max_bvh_depth = 64;
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> primitives_;
+  ObjectBounds bounds_;
+  void cut_bounds();
   // Floor.
   double origin_x_ = 0.0, origin_y_ = 0.0, cell_ = 1.0;
   std::int64_t nx_ = 0, ny_ = 0;  // samples per side
