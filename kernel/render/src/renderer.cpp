@@ -449,19 +449,27 @@ void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
              1e-3f + 1e-4f * a[Scratch::t][i], direction(i), std::min(underwater_reach, max_distance));
   }
   nearest_hits(s, rays, s.under.data());
-  for (std::size_t i = 0; i < width; ++i) {
-    const float side = a[Scratch::side][i];
-    const SurfaceHit* h = side != 0.0f ? &s.under[i] : &s.object[i];
-    const float travelled = side != 0.0f ? a[Scratch::t][i] : 0.0f;
-    const bool floor = h->kind == HitKind::floor;
-    const Vec3 q = !floor          ? Vec3{}
-                   : side != 0.0f ? along(hit_point(i), direction(i), h->t)
-                                  : along(camera.position, {a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]}, h->t);
-    a[Scratch::on_sand][i] = floor ? 1.0f : 0.0f;
+  // The floor hits, for the sand: those of the rays just packed, and those of the primary rays that
+  // met no sea.
+  std::fill_n(a[Scratch::on_sand], width, 0.0f);
+  const auto on_sand = [&](std::size_t i, const Vec3& q, float travelled) {
+    a[Scratch::on_sand][i] = 1.0f;
     a[Scratch::qx][i] = q[0];
     a[Scratch::qy][i] = q[1];
     a[Scratch::qz][i] = q[2];
-    a[Scratch::footprint][i] = (travelled + h->t) * camera.pixel_angle;
+    a[Scratch::footprint][i] = travelled * camera.pixel_angle;
+  };
+  for (std::size_t k = 0; k < rays; ++k) {
+    const std::size_t i = s.ray_pixel[k];
+    const SurfaceHit& h = s.under[i];
+    if (h.kind != HitKind::floor) continue;
+    const Vec3 d{a[Scratch::ray_dx][k], a[Scratch::ray_dy][k], a[Scratch::ray_dz][k]};
+    on_sand(i, along(hit_point(i), d, h.t), a[Scratch::t][i] + h.t);
+  }
+  for (std::size_t i = 0; i < width; ++i) {
+    const SurfaceHit& h = s.object[i];
+    if (a[Scratch::side][i] != 0.0f || h.kind != HitKind::floor) continue;
+    on_sand(i, along(camera.position, {a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]}, h.t), h.t);
   }
 }
 

@@ -8,7 +8,7 @@
 namespace houle::detail {
 
 /// One row of floor hits: on_sand > 0 where a pixel's ray meets the floor, at (x, y, z), with the
-/// pixel's footprint there (m).
+/// pixel's footprint there (m); those four are not read elsewhere (any value will do).
 struct SandInput {
   const float* on_sand;
   const float *x, *y, *z, *footprint;
