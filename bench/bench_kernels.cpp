@@ -1,5 +1,5 @@
-// Per-sample kernels on every supported ISA, so one run shows the SIMD speed-up side by side:
-// Gerstner height + gradient, capillary noise (height + gradient, and height only) at every
+// Per-sample kernels on every supported ISA, so one run shows the SIMD speed-up side by side: the
+// primary rays' directions, Gerstner height + gradient, capillary noise (height + gradient, and height only) at every
 // octave, i.e. the cost of a sample near the camera where the LOD keeps all of them, two of the
 // shading's table lookups (the sky along a direction, the water's colour along a path, eq. 12) and the
 // light of a sea hit seen from above.
@@ -12,6 +12,7 @@
 
 #include "houle/render/colour.hpp"
 #include "houle/render/sky.hpp"
+#include "houle/surface/camera.hpp"
 #include "houle/surface/capillary.hpp"
 #include "houle/surface/gerstner.hpp"
 #include "houle/runtime/isa.hpp"
@@ -26,6 +27,26 @@ void count_samples(benchmark::State& state, std::size_t per_iteration) {
   state.SetItemsProcessed(static_cast<std::int64_t>(samples));
   state.counters["ns_per_sample"] =
       benchmark::Counter(samples * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+// A 1283-pixel row of a 1283x720 image (an 8k+3 width: the tail is included), 50 degrees high.
+void bm_camera_rows(benchmark::State& state, houle::Isa isa) {
+  houle::CameraParams p;
+  p.position = {110.0f, 178.0f, 6.0f};
+  p.look_at = {140.0f, 60.0f, 0.0f};
+  p.vertical_fov = 0.8726646f;
+  p.width = 1283;
+  p.height = 720;
+  const houle::Camera camera = houle::make_camera(p).value();
+  std::vector<float> dx(p.width), dy(p.width), dz(p.width);
+  std::uint32_t row = 0;
+  for (auto _ : state) {
+    houle::camera_row_rays(isa, camera, row, 0, p.width, 0.5f, 0.5f, dx.data(), dy.data(), dz.data());
+    row = row + 1 < p.height ? row + 1 : 0;
+    benchmark::DoNotOptimize(dx.data());
+    benchmark::ClobberMemory();
+  }
+  count_samples(state, p.width);
 }
 
 // Four trains of a moderate swell and a 1003-point row (an 8k+3 width: the tail is included).
@@ -140,6 +161,7 @@ void bm_sea_light(benchmark::State& state, houle::Isa isa) {
 const bool registered = [] {
   for (houle::Isa isa : houle::supported_isas()) {
     const std::string name(houle::isa_name(isa));
+    benchmark::RegisterBenchmark(("camera_row_rays/" + name).c_str(), bm_camera_rows, isa);
     benchmark::RegisterBenchmark(("gerstner_eval/" + name).c_str(), bm_gerstner, isa);
     benchmark::RegisterBenchmark(("capillary_eval/gradient/" + name).c_str(), bm_capillary, isa, true)
         ->ArgName("level")
