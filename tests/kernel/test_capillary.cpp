@@ -204,16 +204,94 @@ TEST(Capillary, LargeCoordinatesAndTimesStayAccurate) {
 
 // ---- Bounds ----
 
+// The interpolant's bounds per lattice unit that capillary_height_bound and capillary_slope_bound use.
+constexpr double kValueBound = 1.30, kGradientBound = 3.31;
+
+/// The Bernstein coefficients on [a, a + h] of the Catmull-Rom weights (cubics: from their values and
+/// derivatives at the ends) and of their derivatives (quadratics: from their values at the ends and
+/// the middle), per lattice offset.
+struct SubInterval {
+  double w[4][4], d[3][4];  // [coefficient][offset]
+  SubInterval(double a, double h) {
+    double wa[4], da[4], wb[4], db[4], wm[4], dm[4];
+    catmull_rom(a, wa, da);
+    catmull_rom(a + h, wb, db);
+    catmull_rom(a + h / 2, wm, dm);
+    for (int i = 0; i < 4; ++i) {
+      w[0][i] = wa[i], w[1][i] = wa[i] + h * da[i] / 3, w[2][i] = wb[i] - h * db[i] / 3, w[3][i] = wb[i];
+      d[0][i] = da[i], d[1][i] = 2 * dm[i] - (da[i] + db[i]) / 2, d[2][i] = db[i];
+    }
+  }
+};
+
+TEST(Capillary, LatticeBoundsHoldOnEveryCell) {
+  // On each cell the interpolant N and its partials are polynomials in (u, v), and a polynomial lies
+  // within the range of its Bernstein coefficients. Those on 8 x 8 sub-cells of all 65,536 cells
+  // bound |N| and |grad N| (the larger |dN/du| and |dN/dv| of each sub-cell, combined) over the whole
+  // lattice: the bounds used must hold them, and not by more than 1 % (looser would waste steps).
+  constexpr int n = 8;
+  std::vector<SubInterval> parts;
+  for (int k = 0; k < n; ++k) parts.emplace_back(double(k) / n, 1.0 / n);
+  double value = 0, gradient = 0;
+  for (int j = 0; j < 256; ++j) {
+    for (int i = 0; i < 256; ++i) {
+      double q[4][4];
+      for (int b = 0; b < 4; ++b) {
+        for (int a = 0; a < 4; ++a) q[b][a] = std::round(127.0 * houle::capillary_lattice_value(i - 1 + a, j - 1 + b)) / 127.0;
+      }
+      for (const SubInterval& su : parts) {
+        // Contracted along u first: rw[l][b], rd[l][b] for coefficient l of row b.
+        double rw[4][4] = {}, rd[3][4] = {};
+        for (int b = 0; b < 4; ++b) {
+          for (int a = 0; a < 4; ++a) {
+            for (int l = 0; l < 4; ++l) rw[l][b] += su.w[l][a] * q[b][a];
+            for (int l = 0; l < 3; ++l) rd[l][b] += su.d[l][a] * q[b][a];
+          }
+        }
+        for (const SubInterval& sv : parts) {
+          double du = 0, dv = 0;
+          for (int l = 0; l < 4; ++l) {
+            for (int k = 0; k < 4; ++k) {
+              double c = 0;
+              for (int b = 0; b < 4; ++b) c += sv.w[k][b] * rw[l][b];
+              value = std::max(value, std::fabs(c));
+            }
+            for (int k = 0; k < 3; ++k) {
+              double c = 0;
+              for (int b = 0; b < 4; ++b) c += sv.d[k][b] * rw[l][b];
+              dv = std::max(dv, std::fabs(c));
+            }
+          }
+          for (int l = 0; l < 3; ++l) {
+            for (int k = 0; k < 4; ++k) {
+              double c = 0;
+              for (int b = 0; b < 4; ++b) c += sv.w[k][b] * rd[l][b];
+              du = std::max(du, std::fabs(c));
+            }
+          }
+          gradient = std::max(gradient, std::hypot(du, dv));
+        }
+      }
+    }
+  }
+  std::printf("capillary lattice: |N| <= %.4f (used %.2f), |grad N| <= %.4f (used %.2f)\n", value, kValueBound,
+              gradient, kGradientBound);
+  EXPECT_LE(value, kValueBound);
+  EXPECT_GT(value, kValueBound / 1.01);
+  EXPECT_LE(gradient, kGradientBound);
+  EXPECT_GT(gradient, kGradientBound / 1.01);
+}
+
 TEST(Capillary, HeightAndSlopeWithinAnalyticBounds) {
   CapillaryParams p;
   const CapillaryFrame f = noise_frame_of(p, 2.0);
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> coord(-100.0f, 100.0f);
-  // The bounds themselves (docs/physics.md 6.1): 1.5625 sum k^-i and 3.75 sqrt(2) (a / lambda_1) per octave.
-  // (With the documented 2^-12 rounding margin.)
+  // The bounds themselves (docs/physics.md 6.1): 1.30 sum k^-i and 3.31 (a / lambda_1) per octave, the
+  // lattice's (LatticeBoundsHoldOnEveryCell). (With the documented 2^-12 rounding margin.)
   const double margin = 1.0 + 1.0 / 4096.0;
-  EXPECT_NEAR(houle::capillary_height_bound(p, 6.0f), margin * p.amplitude * 1.5625 * (2.0 - 1.0 / 32.0), 1e-6 * p.amplitude);
-  EXPECT_NEAR(houle::capillary_slope_bound(p, 6.0f), margin * 6 * 3.75 * std::sqrt(2.0) * p.amplitude / p.base_wavelength,
+  EXPECT_NEAR(houle::capillary_height_bound(p, 6.0f), margin * p.amplitude * kValueBound * (2.0 - 1.0 / 32.0), 1e-6 * p.amplitude);
+  EXPECT_NEAR(houle::capillary_slope_bound(p, 6.0f), margin * 6 * kGradientBound * p.amplitude / p.base_wavelength,
               1e-6 * p.amplitude / p.base_wavelength);
   EXPECT_EQ(houle::capillary_height_bound(p, 0.0f), 0.0f);
   for (float level : {0.5f, 1.0f, 2.3f, 4.0f, 5.5f, 6.0f}) {

@@ -72,11 +72,14 @@ struct LatticeHolder {
   LatticeHolder() noexcept : table{} { fill_lattice(table); }
 };
 
-// Catmull-Rom constants (docs/rendering.md 5.1, docs/physics.md 6.1): max sum|w| = 1.25, max sum|w'| = 3 (both
-// at t = 1/2), so |N| <= 1.25^2 and |grad N| <= sqrt(2) 3 * 1.25 per lattice unit; the integrals
-// int_0^1 sum w^2 = 57/70 and int_0^1 sum w'^2 = 7/3 give the slope variance of iid lattice values.
-constexpr double value_overshoot = 1.5625;
-constexpr double gradient_overshoot = 3.75 * std::numbers::sqrt2;
+// The interpolant's bounds on this lattice (docs/physics.md 6.1): |N| <= 1.30 and |grad N| <= 3.31 per
+// lattice unit. Any lattice of values in [-1, 1] allows 1.25^2 and 3.75 sqrt(2) (max sum|w| = 1.25, max
+// sum|w'| = 3, both at t = 1/2); this fixed one stays well inside, and the tighter bounds let the marcher
+// step further (tests/kernel/test_capillary.cpp bounds every cell by its Bernstein coefficients and
+// checks these). The integrals int_0^1 sum w^2 = 57/70 and int_0^1 sum w'^2 = 7/3 give the slope
+// variance of iid lattice values.
+constexpr double value_overshoot = 1.30;
+constexpr double gradient_overshoot = 3.31;
 constexpr double slope_integrals = (57.0 / 70.0) * (7.0 / 3.0);
 constexpr double bound_margin = 1.0 + 1.0 / 4096.0;
 

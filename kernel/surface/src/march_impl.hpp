@@ -263,6 +263,7 @@ template <class A>
 struct MarchRay {
   using V = simd::vfloat<A>;
   V ox, oy, oz, dx, dy, dz, adx, ady, adz, inv_dx, inv_dy, level_offset, inv_sin;
+  V horizontal;  ///< |(dx, dy)|: the noise's slope bound is on its gradient's length, not per axis
 };
 
 /// Per-ray constants. Non-finite rays (x - x != 0 for inf and NaN) become inert (`finite` false).
@@ -286,6 +287,7 @@ inline MarchRay<A> make_march_ray(const MarchContext& c, simd::vfloat<A> ox, sim
   r.adz = simd::abs(r.dz);
   r.inv_dx = simd::div(one, simd::select(r.dx == zero, one, r.dx));
   r.inv_dy = simd::div(one, simd::select(r.dy == zero, one, r.dy));
+  r.horizontal = simd::sqrt(r.dx * r.dx + r.dy * r.dy);
   r.level_offset = zero;
   r.inv_sin = zero;
   if (c.noise != nullptr) {
@@ -413,7 +415,7 @@ HOULE_MARCH_INLINE void march_step(const MarchContext& c, MarchState<A>& m, std:
   const V lip = vmax<A>(r.adz + bd.slope_x * r.adx + bd.slope_y * r.ady, V(1e-30f));
   V safe = simd::select(g_env > zero, simd::div(g_env, lip), zero);
   if (noise) {
-    const V lip_full = lip + noise_s * (r.adx + r.ady) + level_term;
+    const V lip_full = lip + noise_s * r.horizontal + level_term;
     safe = vmax<A>(safe, simd::select(near & (g > zero), simd::div(g, lip_full), zero));
   }
   const V top = simd::select(m.sigma > zero, bd.h_max + noise_h, bd.h_min - noise_h);
