@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "houle/surface/camera.hpp"
@@ -313,6 +314,40 @@ TEST(March, CameraUnderWaterFindsTheSurfaceFromBelow) {
   }
 }
 
+TEST(March, ReadsTheLevelWhoseAnnulusHoldsThePoint) {
+  // Level l is read for reach_{l-1} < r <= reach_l (r the Chebyshev distance to the centre), the far
+  // plane beyond the last reach: at each reach exactly and a float either side of it, along both
+  // axes and both signs, and at random points.
+  const Scene s = make_scene(0.0f, 0.0f, 1.0);
+  const houle::MarchProbe probe(s.frame, default_params());
+  const houle::SurfaceFrameView v = s.frame.view();
+  ASSERT_EQ(v.centre_x, 0.0f);
+  ASSERT_EQ(v.centre_y, 0.0f);
+  ASSERT_GE(v.levels, 4u);
+  const auto expected = [&](float x, float y) {
+    const float r = std::max(std::fabs(x), std::fabs(y));
+    std::uint32_t l = 0;
+    while (l + 1 < v.levels && r > v.level[l].reach) ++l;
+    return float(r > v.level[v.levels - 1].reach ? v.levels : l);
+  };
+  std::vector<float> radii = {0.0f, 1e-30f};
+  for (std::uint32_t l = 0; l < v.levels; ++l) {
+    const float reach = v.level[l].reach;
+    radii.insert(radii.end(), {reach, std::nextafter(reach, 0.0f), std::nextafter(reach, 1e30f)});
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 2.0f * v.level[v.levels - 1].reach);
+  for (int i = 0; i < 2000; ++i) radii.push_back(u(rng));
+  for (const float r : radii) {
+    for (const float side : {1.0f, -1.0f}) {
+      const float a = side * r, b = 0.37f * side * r;
+      for (const auto& [x, y] : {std::pair{a, b}, std::pair{b, a}}) {
+        EXPECT_EQ(probe.grid_level(x, y), expected(x, y)) << "x " << x << " y " << y;
+      }
+    }
+  }
+}
+
 TEST(March, CameraOnTheSurfaceAndRaysParallelToTheSea) {
   const Scene s = make_scene(1.0f, 2.0f, 5.0);
   const houle::MarchProbe probe(s.frame, default_params());
@@ -421,6 +456,34 @@ TEST(March, EveryIsaMatchesScalarBitForBitIncludingTails) {
         EXPECT_EQ(differ, 0u) << houle::isa_name(isa) << " n = " << n << " noise " << with_noise;
       }
     }
+  }
+}
+
+TEST(March, EachRayGetsTheBitsItGetsAlone) {
+  // A ray's hit must not depend on its packet's other lanes or on the packet marched beside it
+  // (march_packets). Every ray of a batch, on every ISA, against the same ray marched alone (the tail
+  // path, its other lanes padding).
+  const Scene s = make_scene(12.0f, -7.0f, 9.0);
+  auto noise_frame = houle::make_capillary_frame(houle::CapillaryParams{}, 9.0);
+  ASSERT_TRUE(noise_frame.ok());
+  houle::MarchParams p = default_params();
+  p.noise = &noise_frame.value();
+  std::mt19937 rng(31);
+  const std::size_t n = 16 * 7 + 5;
+  // Rays that march few steps (steep) and many (grazing), interleaved so that packets differ.
+  Rays r = camera_rays(rng, n, s.cx, s.cy, 0.5f, 12.0f, -80.0f, -0.5f);
+  for (houle::Isa isa : houle::supported_isas()) {
+    Hits all(n);
+    houle::march_rays(isa, s.frame, p, r.view(), n, all.view());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      Hits one(1);
+      const houle::MarchRays ray{&r.ox[i], &r.oy[i], &r.oz[i], &r.dx[i], &r.dy[i], &r.dz[i], nullptr};
+      houle::march_rays(isa, s.frame, p, ray, 1, one.view());
+      differ += all.t[i] != one.t[0] || all.gx[i] != one.gx[0] || all.gy[i] != one.gy[0] ||
+                all.status[i] != one.status[0] || all.evaluations[i] != one.evaluations[0];
+    }
+    EXPECT_EQ(differ, 0u) << houle::isa_name(isa);
   }
 }
 

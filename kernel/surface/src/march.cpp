@@ -210,6 +210,11 @@ float MarchProbe::grid_height(float x, float y) const noexcept {
   return detail::grid_field<S>(*c_, c_->height, s, c_->far_height);
 }
 
+float MarchProbe::grid_level(float x, float y) const noexcept {
+  const detail::Located<simd::scalar> s = detail::locate<simd::scalar>(*c_, x, y);
+  return s.far ? float(c_->levels) : s.level;
+}
+
 float MarchProbe::slab_min() const noexcept { return c_->z_lo; }
 float MarchProbe::slab_max() const noexcept { return c_->z_hi; }
 

@@ -125,6 +125,9 @@ class MarchProbe {
   float noise_slope_bound(float dz, float t) const noexcept;
   /// The grid part of S at (x, y) (SurfaceFrame::height_at).
   float grid_height(float x, float y) const noexcept;
+  /// The level of the grid read at (x, y): the number of levels' reaches below its Chebyshev distance
+  /// to the centre, at most levels - 1; `levels` beyond the last reach (the far plane).
+  float grid_level(float x, float y) const noexcept;
   /// The slab [z_lo, z_hi] rays are clipped to (grid slab widened by the noise bound).
   float slab_min() const noexcept;
   float slab_max() const noexcept;
