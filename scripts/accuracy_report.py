@@ -33,7 +33,8 @@ KNOBS = {
         "normals amplify, which is why the curve does not keep falling past 4 (8 measured slightly worse "
         "than 4 at 320x180 and 640x360 from realtime and at 320x180 from film). `film` therefore uses 4 (it "
         "used 8). In the image, the error of 1 iteration is already a thousandth of an 8-bit step "
-        "(640x360: RMSE 1.9e-6 against 3.8e-7 at 4) for a fifth less march time: `realtime` uses 1 (it used "
+        "(640x360: RMSE 4.0e-6 against 4.6e-7 at 4, `houle_accuracy --only march.refine_iterations --size "
+        "640x360`) for a sixth less march time: `realtime` uses 1 (it used "
         "4) and `draft` 0.",
     ),
     "render.samples_per_pixel": (
@@ -412,7 +413,7 @@ PRESET_NOTES = (
     "(from realtime at 320x180 and 640x360 and from film at 320x180, `houle_accuracy --only "
     "march.refine_iterations [--base film] [--size 640x360]`): the root is at float resolution after 4. "
     "`realtime`'s, 4 -> 1, was past the knee: in the image one iteration is within a thousandth of an "
-    "8-bit step of four (RMSE 1.9e-6 against 3.8e-7 at 640x360) and saves a fifth of the march. "
+    "8-bit step of four (RMSE 4.0e-6 against 4.6e-7 at 640x360) and saves a sixth of the march. "
     "Every other preset value is on or next to its knob's front. Two are on the front but buy little and "
     "are kept on purpose: `film`'s 8 samples per pixel against 4 (the curve levels off at the LOD's floor; "
     "8 is the paper's Plate 3 setting) and 8 surface levels against 7 (no change at 320x180, a small one at "
