@@ -103,8 +103,8 @@ float capillary_top_level(const CapillaryParams& params) noexcept;
 /// Bounds for levels <= level (all are nondecreasing in level; use the largest level a ray segment
 /// can see). Height: max |h| <= amplitude 1.30 sum_i W_i k^(1-i) (the Catmull-Rom interpolant's bound on
 /// houle's lattice, docs/physics.md 6.1), for the marcher's slab H_box. Slope: max |grad h| <=
-/// (amplitude / lambda_1) 3.31 sum_i W_i (Lipschitz constant of the gradient's length, m/m). Both carry
-/// a 2^-12 relative margin for rounding.
+/// (amplitude / lambda_1) 3.31 sum_i W_i (a bound on the gradient's length: a Lipschitz constant, m/m).
+/// Both carry a 2^-12 relative margin for rounding.
 float capillary_height_bound(const CapillaryParams& params, float level) noexcept;
 float capillary_slope_bound(const CapillaryParams& params, float level) noexcept;
 
