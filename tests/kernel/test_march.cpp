@@ -470,7 +470,7 @@ TEST(March, EachRayGetsTheBitsItGetsAlone) {
   p.noise = &noise_frame.value();
   std::mt19937 rng(31);
   const std::size_t n = 16 * 7 + 5;
-  // Rays that march few steps (steep) and many (grazing), interleaved so that packets differ.
+  // Random elevations, steep to grazing: neighbouring packets march different numbers of steps.
   Rays r = camera_rays(rng, n, s.cx, s.cy, 0.5f, 12.0f, -80.0f, -0.5f);
   for (houle::Isa isa : houle::supported_isas()) {
     Hits all(n);
