@@ -1,10 +1,11 @@
 // Per-sample kernels on every supported ISA, so one run shows the SIMD speed-up side by side: the
 // primary rays' directions, Gerstner height + gradient, capillary noise (height + gradient, and height only) at every
 // octave, i.e. the cost of a sample near the camera where the LOD keeps all of them, two of the
-// shading's table lookups (the sky along a direction, the water's colour along a path, eq. 12) and the
-// light of a sea hit seen from above.
+// shading's table lookups (the sky along a direction, the water's colour along a path, eq. 12), the
+// light of a sea hit seen from above and the light on the sea bed under it.
 #include <benchmark/benchmark.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
@@ -17,6 +18,8 @@
 #include "houle/surface/gerstner.hpp"
 #include "houle/runtime/isa.hpp"
 #include "sea_light.hpp"
+#include "shadow_mask.hpp"
+#include "under_light.hpp"
 
 namespace {
 
@@ -158,6 +161,44 @@ void bm_sea_light(benchmark::State& state, houle::Isa isa) {
   count_samples(state, n);
 }
 
+// 1003 sea hits seen from above over 30 m of water beside a 20 m wall, 6 in 7 of whose rays into the
+// water meet the sea bed 1-8 m down: the masks are asked everywhere, a few lanes are left open.
+void bm_under_light(benchmark::State& state, houle::Isa isa) {
+  const std::vector<houle::RenderBox> wall{{{0.0f, 0.0f, 0.5f}, {10.0f, 1.0f, 1.5f}}};
+  const std::array<float, 3> sun{-0.6f, 0.0f, 0.8f}, sun_water{-0.45f, 0.0f, 0.893f};
+  const auto sun_mask = houle::detail::ShadowMask::build(wall, {}, sun);
+  const auto water_mask = houle::detail::ShadowMask::build(wall, {}, sun_water);
+  const houle::detail::UnderLightParams p{{0.2f, 0.3f, 0.4f}, {0.9f, 0.85f, 0.7f}, {sun_water[0], sun_water[1], sun_water[2]},
+                                          {sun[0], sun[1], sun[2]}, 2.0f, true, sun_mask.view(), water_mask.view()};
+  const std::size_t n = 1003;
+  std::vector<std::vector<float>> f(19, std::vector<float>(n));
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (auto& v : f) v[i] = u(rng);
+    f[0][i] = 1.0f;                                                        // side: from above
+    f[1][i] = 30.0f * u(rng) - 15.0f, f[2][i] = 30.0f * u(rng) - 15.0f;  // the sea hit
+    f[3][i] = 0.3f * (u(rng) - 0.5f);
+    f[4][i] = 0.05f * (u(rng) - 0.5f), f[5][i] = 0.05f * (u(rng) - 0.5f), f[6][i] = 1.0f;  // its normal
+    f[7][i] = 50.0f * u(rng);                                              // t
+    f[8][i] = i % 7 == 3 ? 0.0f : 1.0f;                                    // met
+    f[9][i] = 0.3f * (u(rng) - 0.5f), f[10][i] = 0.3f * (u(rng) - 0.5f), f[11][i] = -0.95f;  // refracted
+    f[12][i] = 1.0f + 7.0f * u(rng);                                       // hit_t
+    f[13][i] = 0.1f * (u(rng) - 0.5f), f[14][i] = 0.1f * (u(rng) - 0.5f), f[15][i] = 1.0f;  // the bed's normal
+  }
+  const houle::detail::UnderLightInput in{f[0].data(),  f[1].data(),  f[2].data(),  f[3].data(),  f[4].data(),
+                                          f[5].data(),  f[6].data(),  f[7].data(),  f[8].data(),  f[9].data(),
+                                          f[10].data(), f[11].data(), f[12].data(), f[13].data(), f[14].data(),
+                                          f[15].data(), f[16].data(), f[17].data(), f[18].data()};
+  std::vector<float> lit(n), ask(n), r(n), g(n), b(n), path(n);
+  for (auto _ : state) {
+    houle::detail::under_light(isa, p, in, n, {lit.data(), ask.data(), r.data(), g.data(), b.data(), path.data()});
+    benchmark::DoNotOptimize(r.data());
+    benchmark::ClobberMemory();
+  }
+  count_samples(state, n);
+}
+
 const bool registered = [] {
   for (houle::Isa isa : houle::supported_isas()) {
     const std::string name(houle::isa_name(isa));
@@ -173,6 +214,7 @@ const bool registered = [] {
     benchmark::RegisterBenchmark(("sky_lookup/" + name).c_str(), bm_sky, isa);
     benchmark::RegisterBenchmark(("water_mix/" + name).c_str(), bm_water_mix, isa);
     benchmark::RegisterBenchmark(("sea_light/" + name).c_str(), bm_sea_light, isa);
+    benchmark::RegisterBenchmark(("under_light/" + name).c_str(), bm_under_light, isa);
   }
   return true;
 }();

@@ -9,6 +9,7 @@
 #include "sea_light_impl.hpp"
 #include "sky_impl.hpp"
 #include "floor_hits_impl.hpp"
+#include "under_light_impl.hpp"
 
 namespace houle::detail {
 namespace {
@@ -16,7 +17,8 @@ template <class A>
 constexpr RenderTable make_render_table() {
   return {&fresnel_batch<A>, &reflect_refract_batch<A>, &sea_normals_batch<A>, &air_directions_batch<A>,
           &sky_lookup_batch<A>, &foam_cover_batch<A>,
-          &water_mix_batch<A>, &sand_albedo_batch<A>, &sea_light_batch<A>, &sea_glint_batch<A>, &floor_hits_batch<A>};
+          &water_mix_batch<A>, &sand_albedo_batch<A>, &sea_light_batch<A>, &sea_glint_batch<A>, &floor_hits_batch<A>,
+          &under_light_batch<A>};
 }
 }  // namespace
 }  // namespace houle::detail

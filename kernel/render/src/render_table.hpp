@@ -8,6 +8,7 @@
 #include "sand.hpp"
 #include "sea_light.hpp"
 #include "floor_hits.hpp"
+#include "under_light.hpp"
 
 namespace houle::detail {
 
@@ -24,6 +25,7 @@ struct RenderTable {
   void (*sea_light_batch)(const SeaLightParams&, const SeaLightInput&, std::size_t, SeaLightOutput) noexcept;
   void (*sea_glint_batch)(const SeaLightParams&, const SeaLightInput&, const float*, std::size_t, SeaLightOutput) noexcept;
   void (*floor_hits_batch)(const FloorGridView&, const ObjectBounds&, const FloorRays&, std::size_t, FloorHits) noexcept;
+  void (*under_light_batch)(const UnderLightParams&, const UnderLightInput&, std::size_t, UnderLightOutput) noexcept;
 };
 
 }  // namespace houle::detail

@@ -20,6 +20,7 @@
 #include "scene_objects.hpp"
 #include "sea_light.hpp"
 #include "shadow_mask.hpp"
+#include "under_light.hpp"
 
 namespace houle {
 namespace {
@@ -132,6 +133,8 @@ struct alignas(64) Scratch {
     ax, ay, az, sky_r, sky_g, sky_b, foam, on_sand, qx, qy, qz, footprint, sand_r, sand_g, sand_b, lit,
     seen_r, seen_g, seen_b, seen_t, seen_path, seen_illumination, under_r, under_g, under_b,
     air_hit, reflected_r, reflected_g, reflected_b, light_r, light_g, light_b, glint_lobe, glint_variance,
+    // What the ray into the water meets (light_under_water): met > 0, its normal and albedo; ask: under_light's.
+    met, met_nx, met_ny, met_nz, met_r, met_g, met_b, ask,
     // A row's primary or secondary rays, packed (nearest_hits): ray k is pixel ray_pixel[k]'s.
     ray_ox, ray_oy, ray_oz, ray_dx, ray_dy, ray_dz, ray_reach, hit_t, hit_nx, hit_ny, hit_nz, hit_left, hit_objects, count
   };
@@ -190,6 +193,7 @@ struct Renderer::Impl {
   float sea_shade_illumination = 0.0f;  ///< the same in an object's shadow: the sky's share alone
   float casters_top = -std::numeric_limits<float>::infinity();  ///< m, highest point of a box or sphere
   detail::ShadowMask sun_mask, sun_water_mask;  ///< where lines along sun and sun_water can meet them
+  detail::UnderLightParams under_light;  ///< the light above in the sea's terms, and views of the masks
   float exposure = 1.0f;          ///< display_exposure()
   std::array<float, 3> rgb_absorption{};
 
@@ -507,35 +511,52 @@ void Renderer::Impl::find_air_hits(Scratch& s) const noexcept {
 }
 
 /// For each sea hit seen from above, whether the sun reaches it (s.lit) and the light its refracted ray
-/// brings up (s.under_*: eq. 12 on what it meets, I_sea if nothing), the water's absorption a packet at
-/// a time.
+/// brings up (s.under_*: eq. 12 on what it meets, I_sea if nothing): the light and the shadow masks a
+/// packet at a time (under_light), the shadow rays where a mask says a caster may be in the way, then
+/// the water's absorption a packet at a time.
 void Renderer::Impl::light_under_water(Scratch& s) const noexcept {
   float* const* a = s.a;
   std::size_t first = width, end = 0;  // the pixels whose refracted ray meets something
-  for (int array : {Scratch::seen_r, Scratch::seen_g, Scratch::seen_b, Scratch::seen_t, Scratch::seen_path,
-                    Scratch::seen_illumination}) {
-    std::fill_n(a[array], width, 0.0f);
-  }
   for (std::size_t i = 0; i < width; ++i) {
-    if (!(a[Scratch::side][i] > 0.0f)) continue;
-    const Vec3 p{a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]};
-    const Vec3 n{a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]};
-    // In an object's shadow the sea loses the glint and the sun's share of its own light.
-    const bool lit = sunlit(p, n, 1e-3f + 1e-4f * a[Scratch::t][i]);
-    a[Scratch::lit][i] = lit ? 1.0f : 0.0f;
     const SurfaceHit& h = s.under[i];
-    if (!(a[Scratch::kr][i] < 1.0f) || h.kind == HitKind::none) continue;
-    const Vec3 tr{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]};
-    const Vec3 q = along(p, tr, h.t);
-    const LinearRgb seen = lit_in_water(h, q, tr, albedo(s, i, h));
-    a[Scratch::seen_r][i] = seen.r;
-    a[Scratch::seen_g][i] = seen.g;
-    a[Scratch::seen_b][i] = seen.b;
-    a[Scratch::seen_t][i] = h.t;
-    a[Scratch::seen_path][i] = sun_path_in_water(q);
-    a[Scratch::seen_illumination][i] = lit ? sea_illumination : sea_shade_illumination;
+    const bool met = a[Scratch::side][i] > 0.0f && a[Scratch::kr][i] < 1.0f && h.kind != HitKind::none;
+    a[Scratch::met][i] = met ? 1.0f : 0.0f;
+    a[Scratch::seen_t][i] = met ? h.t : 0.0f;
+    if (!met) continue;
+    const LinearRgb c = albedo(s, i, h);
+    a[Scratch::met_nx][i] = h.normal[0], a[Scratch::met_ny][i] = h.normal[1], a[Scratch::met_nz][i] = h.normal[2];
+    a[Scratch::met_r][i] = c.r, a[Scratch::met_g][i] = c.g, a[Scratch::met_b][i] = c.b;
     first = std::min(first, i);
     end = i + 1;
+  }
+  detail::under_light(under_light,
+                      {a[Scratch::side], a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::nx], a[Scratch::ny],
+                       a[Scratch::nz], a[Scratch::t], a[Scratch::met], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz],
+                       a[Scratch::seen_t], a[Scratch::met_nx], a[Scratch::met_ny], a[Scratch::met_nz], a[Scratch::met_r],
+                       a[Scratch::met_g], a[Scratch::met_b]},
+                      width,
+                      {a[Scratch::lit], a[Scratch::ask], a[Scratch::seen_r], a[Scratch::seen_g], a[Scratch::seen_b],
+                       a[Scratch::seen_path]});
+  for (std::size_t i = 0; i < width; ++i) {
+    const float ask = a[Scratch::ask][i];
+    if (ask == 0.0f) continue;
+    const Vec3 p{a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]};
+    if (ask != 2.0f) {  // 1 or 3: in an object's shadow the sea loses the glint and the sun's share of its light
+      const Vec3 n{a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]};
+      a[Scratch::lit][i] = sunlit(p, n, 1e-3f + 1e-4f * a[Scratch::t][i]) ? 1.0f : 0.0f;
+    }
+    if (ask != 1.0f) {
+      const SurfaceHit& h = s.under[i];
+      const Vec3 tr{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]};
+      const LinearRgb seen = lit_in_water(h, along(p, tr, h.t), tr, albedo(s, i, h));
+      a[Scratch::seen_r][i] = seen.r;
+      a[Scratch::seen_g][i] = seen.g;
+      a[Scratch::seen_b][i] = seen.b;
+    }
+  }
+  for (std::size_t i = first; i < end; ++i) {
+    a[Scratch::seen_illumination][i] =
+        a[Scratch::met][i] > 0.0f ? (a[Scratch::lit][i] > 0.0f ? sea_illumination : sea_shade_illumination) : 0.0f;
   }
   if (quality.spectral_absorption && first < end) {
     const auto from = [&](int array) { return a[array] + first; };
@@ -546,7 +567,7 @@ void Renderer::Impl::light_under_water(Scratch& s) const noexcept {
   for (std::size_t i = 0; i < width; ++i) {
     if (!(a[Scratch::side][i] > 0.0f)) continue;
     LinearRgb c;
-    if (s.under[i].kind == HitKind::none) {
+    if (a[Scratch::met][i] == 0.0f) {
       c = water->sea_colour() * (a[Scratch::lit][i] > 0.0f ? sea_illumination : sea_shade_illumination);
     } else if (!quality.spectral_absorption) {
       c = through_water({a[Scratch::seen_r][i], a[Scratch::seen_g][i], a[Scratch::seen_b][i]}, a[Scratch::seen_t][i],
@@ -852,6 +873,14 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
     r.sun_mask = detail::ShadowMask::build(scene.boxes, scene.spheres, r.sun);
     r.sun_water_mask = detail::ShadowMask::build(scene.boxes, scene.spheres, r.sun_water);
   }
+  r.under_light = {{r.ambient_water.r, r.ambient_water.g, r.ambient_water.b},
+                   {r.sun_water_rgb.r, r.sun_water_rgb.g, r.sun_water_rgb.b},
+                   {r.sun_water[0], r.sun_water[1], r.sun_water[2]},
+                   {r.sun[0], r.sun[1], r.sun[2]},
+                   r.casters_top,
+                   quality.shadows,
+                   r.sun_mask.view(),
+                   r.sun_water_mask.view()};
 
   auto pool = detail::ThreadPool::create(threads);
   if (!pool) return pool.error();

@@ -46,12 +46,12 @@ ShadowMask ShadowMask::build(const std::vector<RenderBox>& boxes, const std::vec
                              const Vec3& towards) {
   ShadowMask mask;
   if (!(towards[2] > 0.0f)) return mask;
-  mask.slope_x_ = towards[0] / towards[2];
-  mask.slope_y_ = towards[1] / towards[2];
+  mask.view_.slope_x = towards[0] / towards[2];
+  mask.view_.slope_y = towards[1] / towards[2];
   std::vector<Rect> rects;
   const auto add_cube = [&](const Vec3& c, float reach) {
     rects.push_back(project({c[0] - reach, c[1] - reach, c[2] - reach}, {c[0] + reach, c[1] + reach, c[2] + reach},
-                            mask.slope_x_, mask.slope_y_));
+                            mask.view_.slope_x, mask.view_.slope_y));
   };
   for (const RenderBox& b : boxes) {
     const auto& e = b.half_extent;
@@ -70,7 +70,7 @@ ShadowMask ShadowMask::build(const std::vector<RenderBox>& boxes, const std::vec
         const float lx = -e[0] + (2.0f * float(i) + 1.0f) * hx, ly = -e[1] + (2.0f * float(j) + 1.0f) * hy;
         const float px = b.center[0] + c * lx - s * ly, py = b.center[1] + s * lx + c * ly;
         rects.push_back(project({px - wx, py - wy, b.center[2] - e[2]}, {px + wx, py + wy, b.center[2] + e[2]},
-                                mask.slope_x_, mask.slope_y_));
+                                mask.view_.slope_x, mask.view_.slope_y));
       }
     }
   }
@@ -80,28 +80,28 @@ ShadowMask ShadowMask::build(const std::vector<RenderBox>& boxes, const std::vec
   Rect all = rects.front();
   for (const Rect& r : rects) all = {std::min(all.x0, r.x0), std::min(all.y0, r.y0), std::max(all.x1, r.x1), std::max(all.y1, r.y1)};
   const float cell = std::max({min_cell, (all.x1 - all.x0) / max_cells, (all.y1 - all.y0) / max_cells});
-  mask.x0_ = all.x0;
-  mask.y0_ = all.y0;
-  mask.inv_cell_ = 1.0f / cell;
-  mask.nx_ = std::uint32_t(std::ceil((all.x1 - all.x0) / cell)) + 1;
-  mask.ny_ = std::uint32_t(std::ceil((all.y1 - all.y0) / cell)) + 1;
-  mask.cells_.assign(std::size_t(mask.nx_) * mask.ny_, 0);
+  mask.view_.x0 = all.x0;
+  mask.view_.y0 = all.y0;
+  mask.view_.inv_cell = 1.0f / cell;
+  mask.view_.nx = std::int32_t(std::ceil((all.x1 - all.x0) / cell)) + 1;
+  mask.view_.ny = std::int32_t(std::ceil((all.y1 - all.y0) / cell)) + 1;
+  mask.cells_.assign(std::size_t(mask.view_.nx) * std::size_t(mask.view_.ny), 0.0f);
   // Every cell a rectangle touches, one more on each side for the rounding of the cell index.
-  const auto index = [&](float x, float x0, std::uint32_t n) {
-    return std::clamp(std::int64_t(std::floor((x - x0) * mask.inv_cell_)), std::int64_t(0), std::int64_t(n) - 1);
+  const auto index = [&](float x, float x0, std::int32_t n) {
+    return std::clamp(std::int64_t(std::floor((x - x0) * mask.view_.inv_cell)), std::int64_t(0), std::int64_t(n) - 1);
   };
   for (const Rect& r : rects) {
-    const std::int64_t i0 = std::max<std::int64_t>(index(r.x0, all.x0, mask.nx_) - 1, 0);
-    const std::int64_t i1 = std::min<std::int64_t>(index(r.x1, all.x0, mask.nx_) + 1, mask.nx_ - 1);
-    const std::int64_t j0 = std::max<std::int64_t>(index(r.y0, all.y0, mask.ny_) - 1, 0);
-    const std::int64_t j1 = std::min<std::int64_t>(index(r.y1, all.y0, mask.ny_) + 1, mask.ny_ - 1);
+    const std::int64_t i0 = std::max<std::int64_t>(index(r.x0, all.x0, mask.view_.nx) - 1, 0);
+    const std::int64_t i1 = std::min<std::int64_t>(index(r.x1, all.x0, mask.view_.nx) + 1, mask.view_.nx - 1);
+    const std::int64_t j0 = std::max<std::int64_t>(index(r.y0, all.y0, mask.view_.ny) - 1, 0);
+    const std::int64_t j1 = std::min<std::int64_t>(index(r.y1, all.y0, mask.view_.ny) + 1, mask.view_.ny - 1);
     for (std::int64_t j = j0; j <= j1; ++j) {
-      std::fill_n(mask.cells_.begin() + std::ptrdiff_t(j * mask.nx_ + i0), std::ptrdiff_t(i1 - i0 + 1), std::uint8_t(1));
+      std::fill_n(mask.cells_.begin() + std::ptrdiff_t(j * mask.view_.nx + i0), std::ptrdiff_t(i1 - i0 + 1), 1.0f);
     }
   }
   return mask;
 }
 
-std::size_t ShadowMask::marked_cells() const noexcept { return std::size_t(std::count(cells_.begin(), cells_.end(), 1)); }
+std::size_t ShadowMask::marked_cells() const noexcept { return std::size_t(std::count(cells_.begin(), cells_.end(), 1.0f)); }
 
 }  // namespace houle::detail
