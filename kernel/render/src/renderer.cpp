@@ -140,7 +140,7 @@ struct alignas(64) Scratch {
   };
   std::vector<float> memory;
   float* a[count] = {};
-  std::vector<float> accumulated;  // 3 per pixel
+  std::vector<float> accumulated;  // 3 per pixel: the samples' sum, with more than one
   std::vector<MarchStatus> status;
   SurfaceHit* object = nullptr;  // the row's primary hits: own_object, or the memo's row
   std::vector<SurfaceHit> own_object;
@@ -226,7 +226,8 @@ struct Renderer::Impl {
   detail::SeaLightParams sea_light;  // this frame's light for the sea seen from above
 
   void render_row(Scratch& s, std::uint32_t row) noexcept;
-  void shade_sample(Scratch& s) noexcept;
+  /// Shades one sample of the row into rgb (3 per pixel): sets it for the first sample, adds to it after.
+  void shade_sample(Scratch& s, float* rgb, bool first) noexcept;
   void add_aovs(const Scratch& s, std::uint32_t row, int sample) const noexcept;
   LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
   /// The sky's radiance along pixel i's direction in air (shade_sample's air_directions).
@@ -581,7 +582,7 @@ void Renderer::Impl::light_under_water(Scratch& s) const noexcept {
   }
 }
 
-void Renderer::Impl::shade_sample(Scratch& s) noexcept {
+void Renderer::Impl::shade_sample(Scratch& s, float* rgb, bool first) noexcept {
   const std::size_t w = width;
   float* const* a = s.a;
   // Eq. 8 normals, bent towards the viewer's side where a steep facet would face away from the ray
@@ -639,7 +640,6 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
     }
     detail::sea_glint(sea_light, light, a[Scratch::glint_variance], w, lit);
   }
-  float* acc = s.accumulated.data();
   for (std::size_t i = 0; i < w; ++i) {
     LinearRgb c;
     if (shaded && a[Scratch::side][i] > 0.0f) {  // sea_light's
@@ -652,9 +652,10 @@ void Renderer::Impl::shade_sample(Scratch& s) noexcept {
       ++s.counters.nonfinite;
       c = {};
     }
-    acc[3 * i] += c.r;
-    acc[3 * i + 1] += c.g;
-    acc[3 * i + 2] += c.b;
+    float* p = rgb + 3 * i;
+    p[0] = (first ? 0.0f : p[0]) + c.r;  // 0 + c as a sum from 0 would give (no -0)
+    p[1] = (first ? 0.0f : p[1]) + c.g;
+    p[2] = (first ? 0.0f : p[2]) + c.b;
   }
 }
 
@@ -742,7 +743,10 @@ void Renderer::Impl::primary_hits(Scratch& s, std::size_t memo_row) noexcept {
 void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
   const std::size_t w = width;
   float* const* a = s.a;
-  std::fill(s.accumulated.begin(), s.accumulated.end(), 0.0f);
+  // One sample is shaded straight into the frame (shade_sample leaves no colour that is not finite);
+  // more are summed in the scratch, then averaged.
+  float* dst = out->rgb.data() + std::size_t(row) * w * 3;
+  float* rgb = samples == 1 ? dst : s.accumulated.data();
   const MarchRays rays{a[Scratch::ox], a[Scratch::oy], a[Scratch::oz], a[Scratch::dx],
                        a[Scratch::dy], a[Scratch::dz], a[Scratch::t_max]};
   const MarchHits hits{a[Scratch::t],  a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::gx],
@@ -754,16 +758,16 @@ void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
     const auto t1 = Clock::now();
     march_rays(*surface, march, rays, w, hits);
     const auto t2 = Clock::now();
-    shade_sample(s);
+    shade_sample(s, rgb, k == 0);
     if (aovs) add_aovs(s, row, k);
     const auto t3 = Clock::now();
     s.intersect_ns += (t1 - t0).count();
     s.march_ns += (t2 - t1).count();
     s.shade_ns += (t3 - t2).count();
   }
+  if (samples == 1) return;
   const auto t4 = Clock::now();
   const float inv = 1.0f / float(samples);
-  float* dst = out->rgb.data() + std::size_t(row) * w * 3;
   const float* acc = s.accumulated.data();
   std::uint64_t nonfinite = 0;  // a sum of finite samples can still overflow
   for (std::size_t i = 0; i < 3 * w; ++i) {
