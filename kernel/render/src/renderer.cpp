@@ -653,7 +653,7 @@ void Renderer::Impl::shade_sample(Scratch& s, float* rgb, bool first) noexcept {
       c = {};
     }
     float* p = rgb + 3 * i;
-    p[0] = (first ? 0.0f : p[0]) + c.r;  // 0 + c as a sum from 0 would give (no -0)
+    p[0] = (first ? 0.0f : p[0]) + c.r;  // the first sample as a sum from 0 gives it: 0 + c, +0 for -0
     p[1] = (first ? 0.0f : p[1]) + c.g;
     p[2] = (first ? 0.0f : p[2]) + c.b;
   }

@@ -65,10 +65,10 @@ void under_light_batch(const UnderLightParams& p, const UnderLightInput& in, std
       ask = ask + simd::select(facing & (water_may | air_may), V(2.0f), zero);
     }
     b.store(out.ask, ask);
-    const auto sunny = facing;  // where asked, the renderer's own answer replaces these
-    const V r = simd::select(sunny, V(p.ambient[0]) * tilt + V(p.sun_rgb[0]) * cos_sun, V(p.ambient[0]) * tilt);
-    const V g = simd::select(sunny, V(p.ambient[1]) * tilt + V(p.sun_rgb[1]) * cos_sun, V(p.ambient[1]) * tilt);
-    const V bl = simd::select(sunny, V(p.ambient[2]) * tilt + V(p.sun_rgb[2]) * cos_sun, V(p.ambient[2]) * tilt);
+    // Lit wherever it faces the sun; where asked, the renderer's own answer replaces these.
+    const V r = simd::select(facing, V(p.ambient[0]) * tilt + V(p.sun_rgb[0]) * cos_sun, V(p.ambient[0]) * tilt);
+    const V g = simd::select(facing, V(p.ambient[1]) * tilt + V(p.sun_rgb[1]) * cos_sun, V(p.ambient[1]) * tilt);
+    const V bl = simd::select(facing, V(p.ambient[2]) * tilt + V(p.sun_rgb[2]) * cos_sun, V(p.ambient[2]) * tilt);
     b.store(out.r, simd::select(met, b.load(in.albedo_r) * r, zero));
     b.store(out.g, simd::select(met, b.load(in.albedo_g) * g, zero));
     b.store(out.b, simd::select(met, b.load(in.albedo_b) * bl, zero));
