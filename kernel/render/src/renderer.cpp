@@ -21,6 +21,7 @@
 #include "sea_light.hpp"
 #include "shadow_mask.hpp"
 #include "under_light.hpp"
+#include "under_light_impl.hpp"
 
 namespace houle {
 namespace {
@@ -256,9 +257,7 @@ struct Renderer::Impl {
   void find_air_hits(Scratch& s) const noexcept;
   void light_under_water(Scratch& s) const noexcept;
   bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
-  float sun_path_in_water(const Vec3& p) const noexcept {
-    return sun_water[2] > 0.0f ? std::max(0.0f, -p[2]) / sun_water[2] : 0.0f;
-  }
+  float sun_path_in_water(const Vec3& p) const noexcept { return detail::sun_path_in_water<simd::scalar>(under_light, p[2]); }
 };
 
 // ---- Shading ----------------------------------------------------------------------------------
@@ -283,26 +282,25 @@ LinearRgb Renderer::Impl::lit_in_air(const SurfaceHit& h, const Vec3& p, const V
 }
 
 LinearRgb Renderer::Impl::lit_in_water(const SurfaceHit& h, const Vec3& p, const Vec3& d, LinearRgb albedo) const noexcept {
-  Vec3 n = h.normal;
-  if (dot(n, d) > 0.0f) n = {-n[0], -n[1], -n[2]};
-  LinearRgb light = ambient_water * (0.5f * (1.0f + n[2]));
-  const float cos_sun = dot(n, sun_water);
-  if (cos_sun > 0.0f && sun_water[2] > 0.0f) {
+  // under_light's lighting, a lane's worth, with exact shadow rays where the masks leave the line open.
+  const auto f = detail::sea_bed_facet<simd::scalar>(under_light, h.normal[0], h.normal[1], h.normal[2], d[0], d[1], d[2]);
+  bool lit = f.facing;
+  if (lit && quality.shadows) {
     // Shadows of boxes and spheres along the refracted sun up to the still sea level, and on from there
     // along the sun in air (docs/rendering.md 3.5): a jetty's shadow on the sea bed is the shadow of the
     // whole jetty, not of its submerged foot alone (which drew a thin line offset from it). Not of the
     // floor: the refracted sun is within 48 degrees of the zenith, steeper than sea beds, and a walk per
     // pixel would cost as much as the refracted ray itself. The waves' own focusing and shadowing are
     // ignored.
+    const Vec3 n{f.nx, f.ny, f.nz};
     const float offset = 1e-3f + 1e-4f * h.t;
-    const float depth = std::max(0.0f, -p[2]);
-    const double reach = double(depth) / double(sun_water[2]);
-    bool lit = !quality.shadows || !sun_water_mask.may_meet(along(p, n, offset)) ||
-               !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
-    if (lit) lit = sunlit(along(p, sun_water, depth / sun_water[2]), sun, offset);
-    if (lit) light = light + sun_water_rgb * cos_sun;
+    const double reach = double(std::max(0.0f, -p[2])) / double(sun_water[2]);
+    lit = !sun_water_mask.may_meet(along(p, n, offset)) ||
+          !objects.occluded(make_ray(p, n, offset, sun_water), 0.0, reach, false);
+    if (lit) lit = sunlit(along(p, sun_water, sun_path_in_water(p)), sun, offset);
   }
-  return albedo * light;
+  const auto c = detail::sea_bed_light<simd::scalar>(under_light, f, {albedo.r, albedo.g, albedo.b}, lit);
+  return {c.r, c.g, c.b};
 }
 
 /// Eq. 12 for `object` seen through `distance` m of water, with the object's light having come down

@@ -1,7 +1,7 @@
-// The light under the sea (under_light.hpp), written once for every width (included by render_isa.cpp).
-// The same operations in the same order as the renderer's scalar lit_in_water and sunlit, which keep
-// the lanes asked about: only +, -, *, simd::div, comparisons, exact conversions and the masks'
-// gathers, so every SIMD path gives the scalar path's bits (tests/kernel/test_under_light.cpp).
+// The light under the sea (under_light.hpp), written once for every width (included by render_isa.cpp,
+// and by renderer.cpp, whose lit_in_water lights the lanes asked about with the scalar instances of
+// the same pieces): only +, -, *, simd::div, comparisons, exact conversions and the masks' gathers, so
+// every SIMD path gives the scalar path's bits (tests/kernel/test_under_light.cpp).
 #pragma once
 #include <cstddef>
 
@@ -12,6 +12,49 @@
 #include "under_light.hpp"
 
 namespace houle::detail {
+
+/// m of water the sun's light crosses down to depth -z under a flat sea (0 above it).
+template <class A>
+inline simd::vfloat<A> sun_path_in_water(const UnderLightParams& p, simd::vfloat<A> z) {
+  using V = simd::vfloat<A>;
+  const V depth = max_as_std(V(0.0f), -z);
+  return p.sun_water[2] > 0.0f ? simd::div(depth, V(p.sun_water[2])) : V(0.0f);
+}
+
+/// A surface under the sea met along d, with its normal turned to the side the ray sees.
+template <class A>
+struct SeaBedFacet {
+  simd::vfloat<A> nx, ny, nz, cos_sun;  ///< cos_sun: with the refracted sun
+  simd::vmask<A> facing;                ///< the refracted sun can light it (ignoring shadows)
+};
+template <class A>
+inline SeaBedFacet<A> sea_bed_facet(const UnderLightParams& p, simd::vfloat<A> nx, simd::vfloat<A> ny,
+                                    simd::vfloat<A> nz, simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz) {
+  using V = simd::vfloat<A>;
+  SeaBedFacet<A> f;
+  const auto away = (nx * dx + ny * dy) + nz * dz > V(0.0f);
+  f.nx = simd::select(away, -nx, nx);
+  f.ny = simd::select(away, -ny, ny);
+  f.nz = simd::select(away, -nz, nz);
+  f.cos_sun = (f.nx * V(p.sun_water[0]) + f.ny * V(p.sun_water[1])) + f.nz * V(p.sun_water[2]);
+  f.facing = f.cos_sun > V(0.0f);
+  if (!(p.sun_water[2] > 0.0f)) f.facing = decltype(f.facing)(false);
+  return f;
+}
+
+/// The light the facet of that albedo sends back: the sky's by its tilt, and the refracted sun's where
+/// `sunlit` (its lanes facing the sun and in no caster's shadow).
+template <class A>
+inline Rgb<A> sea_bed_light(const UnderLightParams& p, const SeaBedFacet<A>& f, const Rgb<A>& albedo,
+                            simd::vmask<A> sunlit) {
+  using V = simd::vfloat<A>;
+  const V tilt = V(0.5f) * (V(1.0f) + f.nz);
+  const auto channel = [&](int c, V a) {
+    const V sky = V(p.ambient[c]) * tilt;
+    return a * simd::select(sunlit, sky + V(p.sun_rgb[c]) * f.cos_sun, sky);
+  };
+  return {channel(0, albedo.r), channel(1, albedo.g), channel(2, albedo.b)};
+}
 
 template <class A>
 void under_light_batch(const UnderLightParams& p, const UnderLightInput& in, std::size_t n, UnderLightOutput out) noexcept {
@@ -40,22 +83,15 @@ void under_light_batch(const UnderLightParams& p, const UnderLightInput& in, std
     // The surface met, at q, its normal turned to the side the ray sees.
     const V t = b.load(in.hit_t), dx = b.load(in.dx), dy = b.load(in.dy), dz = b.load(in.dz);
     const V qx = b.load(in.x) + t * dx, qy = b.load(in.y) + t * dy, qz = b.load(in.z) + t * dz;
-    V nx = b.load(in.hit_nx), ny = b.load(in.hit_ny), nz = b.load(in.hit_nz);
-    const auto away = (nx * dx + ny * dy) + nz * dz > zero;
-    nx = simd::select(away, -nx, nx);
-    ny = simd::select(away, -ny, ny);
-    nz = simd::select(away, -nz, nz);
-    const V tilt = V(0.5f) * (one + nz);
-    const V cos_sun = (nx * V(p.sun_water[0]) + ny * V(p.sun_water[1])) + nz * V(p.sun_water[2]);
-    auto facing = met & (cos_sun > zero);
-    if (!(p.sun_water[2] > 0.0f)) facing = decltype(facing)(false);
-    const V depth = max_as_std(zero, -qz);
+    const SeaBedFacet<A> f = sea_bed_facet<A>(p, b.load(in.hit_nx), b.load(in.hit_ny), b.load(in.hit_nz), dx, dy, dz);
+    const auto facing = met & f.facing;
+    const V path = sun_path_in_water<A>(p, qz);
     if (p.shadows && simd::any(facing)) {
       // Along the refracted sun up to the still sea level, then along the sun in air (lit_in_water).
       const V offset = V(1e-3f) + V(1e-4f) * t;
-      const auto water_may = shadow_may_meet<A>(p.sun_water_mask, qx + offset * nx, qy + offset * ny, qz + offset * nz);
-      const V rise = simd::div(depth, V(p.sun_water[2]));
-      const V sx = qx + rise * V(p.sun_water[0]), sy = qy + rise * V(p.sun_water[1]), sz = qz + rise * V(p.sun_water[2]);
+      const auto water_may =
+          shadow_may_meet<A>(p.sun_water_mask, qx + offset * f.nx, qy + offset * f.ny, qz + offset * f.nz);
+      const V sx = qx + path * V(p.sun_water[0]), sy = qy + path * V(p.sun_water[1]), sz = qz + path * V(p.sun_water[2]);
       auto air_may = V(p.casters_top) > sz;
       if (!(p.sun[2] > 0.0f)) air_may = decltype(air_may)(false);
       if (simd::any(facing & air_may)) {
@@ -66,13 +102,10 @@ void under_light_batch(const UnderLightParams& p, const UnderLightInput& in, std
     }
     b.store(out.ask, ask);
     // Lit wherever it faces the sun; where asked, the renderer's own answer replaces these.
-    const V r = simd::select(facing, V(p.ambient[0]) * tilt + V(p.sun_rgb[0]) * cos_sun, V(p.ambient[0]) * tilt);
-    const V g = simd::select(facing, V(p.ambient[1]) * tilt + V(p.sun_rgb[1]) * cos_sun, V(p.ambient[1]) * tilt);
-    const V bl = simd::select(facing, V(p.ambient[2]) * tilt + V(p.sun_rgb[2]) * cos_sun, V(p.ambient[2]) * tilt);
-    b.store(out.r, simd::select(met, b.load(in.albedo_r) * r, zero));
-    b.store(out.g, simd::select(met, b.load(in.albedo_g) * g, zero));
-    b.store(out.b, simd::select(met, b.load(in.albedo_b) * bl, zero));
-    const V path = p.sun_water[2] > 0.0f ? simd::div(depth, V(p.sun_water[2])) : zero;
+    const Rgb<A> c = sea_bed_light<A>(p, f, {b.load(in.albedo_r), b.load(in.albedo_g), b.load(in.albedo_b)}, facing);
+    b.store(out.r, simd::select(met, c.r, zero));
+    b.store(out.g, simd::select(met, c.g, zero));
+    b.store(out.b, simd::select(met, c.b, zero));
     b.store(out.path, simd::select(met, path, zero));
   });
 }
