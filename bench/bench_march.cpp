@@ -140,6 +140,7 @@ const bool registered = [] {
       benchmark::RegisterBenchmark(("march_frame/" + std::string(noise ? "noise/" : "grid/") + name).c_str(), bm_march,
                                    isa, noise)
           ->Args({640, 360})
+          ->Args({1280, 720})
           ->Unit(benchmark::kMillisecond);
     }
   }
