@@ -1,6 +1,7 @@
 #include "houle/surface/surface_frame.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <new>
@@ -603,7 +604,7 @@ void SurfaceFrame::morph_row(std::uint32_t l, std::uint32_t j) noexcept {
   const bool last = l + 1 == config_.levels;
   const float band_end = s.reach - s.cell, band_start = band_end - config_.blend_fraction * s.reach;
   const float inv_band = 1.0f / (band_end - band_start);
-  const std::uint32_t nodes = config_.cells + 1, tc = config_.tile_cells;
+  const std::uint32_t nodes = config_.cells + 1, tc = config_.tile_cells, tc_log2 = std::uint32_t(std::countr_zero(tc));
   const std::uint8_t* need = needed_ + std::size_t(l) * tiles_ * tiles_;
   // Node (i, j) lies at the partner's (px + i/2, py + j/2); px, py integers (origins on the tile lattice).
   std::int64_t px = 0, py = 0;
@@ -636,7 +637,8 @@ void SurfaceFrame::morph_row(std::uint32_t l, std::uint32_t j) noexcept {
     const float r = std::max(std::fabs(s.origin_x + float(i) * s.cell - centre_x_), dy);
     if (!(r > band_start)) continue;
     // Filled nodes only (a node belongs to up to four tiles).
-    const std::uint32_t ti = std::min(i / tc, tiles_ - 1), tl = i % tc == 0 && i > 0 ? i / tc - 1 : ti;
+    const std::uint32_t tile = i >> tc_log2;  // a shift, not a division: this test runs per node
+    const std::uint32_t ti = std::min(tile, tiles_ - 1), tl = (i & (tc - 1)) == 0 && i > 0 ? tile - 1 : ti;
     if (!(need[upper * tiles_ + ti] || need[upper * tiles_ + tl] || need[lower * tiles_ + ti] ||
           need[lower * tiles_ + tl])) {
       continue;
