@@ -4,11 +4,15 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "houle/simd/gather.hpp"
 #include "houle/surface/capillary.hpp"
 #include "houle/surface/march.hpp"
 #include "houle/surface/surface_frame.hpp"
 
 namespace houle::detail {
+
+// A level index (< max_levels) is within every ISA's gather_window (16 floats on AVX2).
+static_assert(SurfaceFrame::max_levels <= 16);
 
 struct MarchContext {
   // Surface grid (SurfaceFrameView).
@@ -31,8 +35,9 @@ struct MarchContext {
   // Levels. Level l's cell, tile and reach are level 0's times 2^l (exact in float), so a lane computes
   // them from its level index; only the origins are looked up.
   float level_reach[SurfaceFrame::max_levels] = {};  ///< m, Chebyshev radius about the centre
-  float level_origin_x[SurfaceFrame::max_levels] = {};  ///< m, node (0, 0) of each level
-  float level_origin_y[SurfaceFrame::max_levels] = {};
+  /// m, node (0, 0) of each level; padded so that a lane reads its level's with simd::gather_window.
+  float level_origin_x[simd::max_window_floats] = {};
+  float level_origin_y[simd::max_window_floats] = {};
   float inv_cell0 = 0.0f;     ///< 1/m
   float tile_size0 = 0.0f;    ///< m
   float reach0 = 0.0f;        ///< m

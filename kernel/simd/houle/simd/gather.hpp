@@ -51,6 +51,9 @@ inline std::int32_t signed_byte(std::int32_t w) {
 inline std::int32_t gather(const std::int32_t* table, std::int32_t index) { return table[index]; }
 inline float gather(const float* table, std::int32_t index) { return table[index]; }
 
+/// The most floats gather_window reads on any ISA: a table padded to it serves every ISA's window.
+inline constexpr std::int32_t max_window_floats = 32;
+
 /// How many consecutive floats gather_window serves: 32 on AVX-512 and 16 on AVX2 (two vector loads
 /// and a permute, much cheaper than a gather, docs/design.md 10), 0 elsewhere (kernels gather there).
 template <class A>
