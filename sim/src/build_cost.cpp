@@ -63,8 +63,16 @@ constexpr double per_ray_s = 2.5e-6;            // an initial ray: its entry, st
                                                 // reflecting walls: 8.9 us)
 constexpr double per_splat_s = 8.0e-9;          // a sample spread onto one grid node
 constexpr double per_node_s = 0.9e-6;           // a sea node of one traced train: the passes and the march
+constexpr double per_parabolic_node_s = 0.25e-6;  // the same on the parabolic model, which reads it from
+                                                  // its march (a 2 km height map, 4 million nodes at
+                                                  // draft: under 1 s on the Zen 3 machine)
 constexpr double per_march_node_s = 1.5e-6;     // a node of the parabolic model's march (the elliptic shoal:
-                                                // 52,000 nodes in 80 ms)
+                                                // 52,000 nodes in 80 ms; a 400 m beach with a shoal and
+                                                // 1.5 s waves, 1.8 million in 1.9 s). The count is the
+                                                // march's bound, rows at its shortest wavelength: a 2 km
+                                                // height map, deep but for its islands, marched 0.53
+                                                // million of the 4.2 counted; the fuzzers' time limits
+                                                // rely on the estimate bounding the build from above.
 constexpr double march_node_bytes = 8.0;        // its complex float (parabolic_model.hpp)
 constexpr double per_diffraction_s = 0.12e-6;   // a pierhead's diffracted wave at one node
 constexpr double per_radial_s = 60.0e-9;        // a pierhead's radial table entry (non-uniform floor)
@@ -72,7 +80,9 @@ constexpr double per_depth_s = 60.0e-9;         // a floor sample, base and heig
 constexpr double per_block_s = 3.0e-6;          // a wall's block or an object: placed, bounded, in the
                                                 // hierarchy, its pages first touched (232 walls of
                                                 // 100 km segments, 9 million blocks: 30 s)
-constexpr double per_feature_s = 4.0e-9;        // one shoal, bar or channel visited by a floor sample
+constexpr double per_feature_s = 12.0e-9;       // one shoal, bar or channel visited by a floor sample
+                                                // (1,024 of each on a 200 m beach: 25 ns on the Zen 3
+                                                // machine, where 4 ns left its trace 5 times over)
 constexpr double per_wall_test_s = 5.0e-9;      // a chord tested against one wall: each traced step, each
                                                 // carrier move (16 a node) near a wall
 
@@ -254,7 +264,8 @@ BuildCost estimate_build_cost(const Scene& s, const Quality& quality, std::uint6
   near_wall = std::min(near_wall, nodes);
   // The parabolic model's march grids: each lives while its train is resampled (one per lane).
   double march_nodes = 0.0, largest_march = 0.0;
-  if (scene_wave_model(s).kind == WaveModelKind::parabolic) {
+  const bool parabolic = scene_wave_model(s).kind == WaveModelKind::parabolic;
+  if (parabolic) {
     for (std::size_t t = 0; t < s.trains.size(); ++t) {
       if (s.dwt.analytic_shortcut && !train_needs_rays(s, t)) continue;
       const double n = double(detail::parabolic_nodes(s, floor, detail::parabolic_train(s, floor, t)));
@@ -267,7 +278,8 @@ BuildCost estimate_build_cost(const Scene& s, const Quality& quality, std::uint6
     kept_sea = nodes * double(traced) * (node_kept + (pierheads > 0 ? node_diffraction : 0.0));
     sea_scratch = nodes * (node_depth + lanes * (node_family * (reflecting ? 2.0 : 1.0) + node_scratch)) +
                   lanes * double(pierheads) * radial * 4.0 + lanes * largest_march * march_node_bytes;
-    c.sea_s = double(traced) * (nodes * (per_node_s + double(pierheads) * per_diffraction_s) + double(pierheads) * radial * per_radial_s +
+    const double node_s = parabolic ? per_parabolic_node_s : per_node_s;
+    c.sea_s = double(traced) * (nodes * (node_s + double(pierheads) * per_diffraction_s) + double(pierheads) * radial * per_radial_s +
                                 near_wall * 16.0 * wall_count * per_wall_test_s) +
               samples * splat_reach * splat_reach * per_splat_s +
               nodes * (per_depth_s + floor.features_per_sample() * per_feature_s) + march_nodes * per_march_node_s;
