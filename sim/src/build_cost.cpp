@@ -67,12 +67,14 @@ constexpr double per_parabolic_node_s = 0.25e-6;  // the same on the parabolic m
                                                   // its march (a 2 km height map, 4 million nodes at
                                                   // draft: under 1 s on the Zen 3 machine)
 constexpr double per_march_node_s = 1.5e-6;     // a node of the parabolic model's march (the elliptic shoal:
-                                                // 52,000 nodes in 80 ms; a 400 m beach with a shoal and
-                                                // 1.5 s waves, 1.8 million in 1.9 s). The count is the
-                                                // march's bound, rows at its shortest wavelength: a 2 km
-                                                // height map, deep but for its islands, marched 0.53
-                                                // million of the 4.2 counted; the fuzzers' time limits
-                                                // rely on the estimate bounding the build from above.
+                                                // 52,000 nodes in 80 ms), as many as its rows expected
+                                                // from the depths (a 400 m beach with a shoal and 1.5 s
+                                                // waves: 2.5 million, the whole build 1.9 s on the
+                                                // Zen 4 machine). Counting the rows' bound instead, at
+                                                // the shortest wavelength, a 2 km height map was
+                                                // estimated at 4 times its build. The fuzzers' time
+                                                // limits rely on the estimate bounding the build from
+                                                // above.
 constexpr double march_node_bytes = 8.0;        // its complex float (parabolic_model.hpp)
 constexpr double per_diffraction_s = 0.12e-6;   // a pierhead's diffracted wave at one node
 constexpr double per_radial_s = 60.0e-9;        // a pierhead's radial table entry (non-uniform floor)
@@ -263,13 +265,15 @@ BuildCost estimate_build_cost(const Scene& s, const Quality& quality, std::uint6
   }
   near_wall = std::min(near_wall, nodes);
   // The parabolic model's march grids: each lives while its train is resampled (one per lane).
-  double march_nodes = 0.0, largest_march = 0.0;
+  double march_nodes = 0.0, largest_march = 0.0, march_wall_tests = 0.0;
   const bool parabolic = scene_wave_model(s).kind == WaveModelKind::parabolic;
   if (parabolic) {
     for (std::size_t t = 0; t < s.trains.size(); ++t) {
       if (s.dwt.analytic_shortcut && !train_needs_rays(s, t)) continue;
-      const double n = double(detail::parabolic_nodes(s, floor, detail::parabolic_train(s, floor, t)));
-      march_nodes += n;
+      const detail::ParabolicTrain train = detail::parabolic_train(s, floor, t);
+      const double n = double(detail::parabolic_nodes(s, floor, train));
+      march_nodes += double(detail::parabolic_nodes_expected(s, floor, train));
+      if (!s.walls.empty()) march_wall_tests += double(detail::parabolic_wall_tests(s, floor, train));
       largest_march = std::max(largest_march, n);
     }
   }
@@ -282,7 +286,8 @@ BuildCost estimate_build_cost(const Scene& s, const Quality& quality, std::uint6
     c.sea_s = double(traced) * (nodes * (node_s + double(pierheads) * per_diffraction_s) + double(pierheads) * radial * per_radial_s +
                                 near_wall * 16.0 * wall_count * per_wall_test_s) +
               samples * splat_reach * splat_reach * per_splat_s +
-              nodes * (per_depth_s + floor.features_per_sample() * per_feature_s) + march_nodes * per_march_node_s;
+              nodes * (per_depth_s + floor.features_per_sample() * per_feature_s) + march_nodes * per_march_node_s +
+              march_wall_tests * per_wall_test_s;
   }
   const double floor_cells = floor.uniform() && s.floor.base.depth >= 200.0 ? 0.0 : double(grid_nodes(s.domain, 1.0));
   const double map_bytes = s.floor.height_map ? 4.0 * double(s.floor.height_map->depth.size()) : 0.0;

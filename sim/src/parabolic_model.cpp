@@ -251,6 +251,58 @@ std::uint64_t parabolic_nodes(const Scene& scene, const Bathymetry& floor, const
   return g.rows_bound * g.columns;
 }
 
+std::uint64_t parabolic_nodes_expected(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train) {
+  const Grid g = make_grid(scene, floor, train);
+  const Domain& d = scene.domain;
+  const double k0 = deep_water_wavenumber(train.omega);
+  // The march's step is sigma over the row's mean wavenumber (its wet nodes', at most k_max), so
+  // its rows are the integral of that mean over s, over sigma: sampled on a coarse lattice here.
+  constexpr int along = 128, across = 64;
+  const double span_s = g.s_hi - g.s_lo, span_n = double(g.columns - 1) * g.dn;
+  double rows = 2.0;
+  for (int a = 0; a < along; ++a) {
+    const double s = g.s_lo + (double(a) + 0.5) / along * span_s;
+    double sum = 0.0;
+    int wet = 0;
+    for (int c = 0; c < across; ++c) {
+      const double n = g.n0 + (double(c) + 0.5) / across * span_n;
+      const double x = s * g.dx + n * g.mx, y = s * g.dy + n * g.my;
+      const double h = floor.depth(clamp_to(x, d.x_min, d.x_max), clamp_to(y, d.y_min, d.y_max));
+      if (!(h > train.dry_depth)) continue;
+      const double hh = std::max(h, min_depth);
+      sum += kh_from_table(k0 * hh) / hh;
+      ++wet;
+    }
+    const double kbar = std::min(wet > 0 ? sum / wet : train.k_far, g.k_max);
+    rows += kbar * span_s / along / g.sigma;
+  }
+  return std::min(g.rows_bound, std::uint64_t(std::ceil(rows))) * g.columns;
+}
+
+std::uint64_t parabolic_wall_tests(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train) {
+  const Grid g = make_grid(scene, floor, train);
+  const double span = (g.s_hi - g.s_lo) + double(g.columns) * g.dn;
+  const std::vector<Capsule> walls = march_walls(scene, 2.0 * span);
+  // Rows are at least sigma / k_max apart (rows_bound counts them so) and at most sigma / k0 (the
+  // mean wavenumber is never below deep water's); the last may end that far past s_hi.
+  const double rows_per_m = double(g.rows_bound) / std::max(g.s_hi - g.s_lo, g.dn);
+  const double last_step = g.sigma / deep_water_wavenumber(train.omega);
+  // Every row looks at the walls that start before it; the rows a wall spans test the nodes across
+  // its extent, grown by its radius and a node each side (march_parabolic's fill_row).
+  double tests = double(g.rows_bound) * double(walls.size());
+  for (const Capsule& c : walls) {
+    const double sa = g.dx * c.ax + g.dy * c.ay, sb = g.dx * c.bx + g.dy * c.by;
+    const double na = g.mx * c.ax + g.my * c.ay, nb = g.mx * c.bx + g.my * c.by;
+    const double s0 = std::max(std::min(sa, sb) - c.radius, g.s_lo);
+    const double s1 = std::min(std::max(sa, sb) + c.radius, g.s_hi + last_step);
+    if (!(s0 <= s1)) continue;
+    const double rows = std::min(double(g.rows_bound), (s1 - s0) * rows_per_m + 2.0);
+    const double columns = std::min(double(g.columns), (std::abs(nb - na) + 2.0 * c.radius) / g.dn + 5.0);
+    tests += 3.0 * rows * columns;
+  }
+  return tests < 0x1p60 ? std::uint64_t(tests) : std::uint64_t(1) << 60;
+}
+
 Expected<ParabolicField> march_parabolic(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& t) {
   if (!(t.omega > 0.0 && t.k_far > 0.0)) return Error{"trains", "a train with a period and a wavenumber > 0"};
   const Grid g = make_grid(scene, floor, t);
@@ -317,6 +369,7 @@ Expected<ParabolicField> march_parabolic(const Scene& scene, const Bathymetry& f
     for (const Capsule& c : walls) {
       const double sa = s_of(c.ax, c.ay), sb = s_of(c.bx, c.by);
       if (std::min(sa, sb) - c.radius > hi) break;
+      ++f.wall_tests;
       if (std::max(sa, sb) + c.radius < lo) continue;
       // The capsule's n-range within the strip [lo - radius, hi + radius].
       double ta = 0.0, tb = 1.0;
@@ -332,6 +385,7 @@ Expected<ParabolicField> march_parabolic(const Scene& scene, const Bathymetry& f
       const long j0 = std::max(0L, long(std::floor((std::min(na, nb) - c.radius - g.n0) / g.dn)) - 1);
       const long j1 = std::min(long(nc) - 1, long(std::ceil((std::max(na, nb) + c.radius - g.n0) / g.dn)) + 1);
       const std::span<const Capsule> one(&c, 1);
+      f.wall_tests += 3 * std::uint64_t(std::max(0L, j1 - j0 + 1));
       for (long j = j0; j <= j1; ++j) {
         const double n = g.n0 + double(j) * g.dn;
         const double x = s * g.dx + n * g.mx, y = s * g.dy + n * g.my;

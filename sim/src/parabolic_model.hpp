@@ -39,6 +39,7 @@ struct ParabolicField {
   std::vector<std::complex<float>> eta;  ///< rows x columns: the surface's complex amplitude e^{-i Phi} (m)
   double resolved_wavelength = 0.0;  ///< m, the shortest wavelength given points_per_wavelength columns
   std::uint64_t broken = 0;   ///< nodes where the wave was breaking (Dally, Dean & Dalrymple 1985)
+  std::uint64_t wall_tests = 0;  ///< a row's look at a wall segment, or one of a node's three tests against it
 
   std::size_t rows() const noexcept { return s.size(); }
   /// The complex amplitude at (x, y) times e^{-i reference} (the field relative to a phase there):
@@ -94,6 +95,14 @@ ParabolicTrain parabolic_train(const Scene& scene, const Bathymetry& floor, std:
 /// Nodes of the march grid of a train (its memory: 8 bytes a node); never above max_parabolic_nodes.
 inline constexpr std::uint64_t max_parabolic_nodes = 1ull << 22;
 std::uint64_t parabolic_nodes(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train);
+
+/// The nodes the march of a train is expected to take, at most parabolic_nodes: its step follows the
+/// rows' mean wavenumber, estimated from the depths on a coarse lattice.
+std::uint64_t parabolic_nodes_expected(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train);
+
+/// A bound on the wall tests of a train's march (the wet, reached and open tests of the nodes near
+/// each wall segment, and each row's look at the segments), for the build's estimate.
+std::uint64_t parabolic_wall_tests(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train);
 
 /// Marches one train over a valid scene's floor, walls and land.
 Expected<ParabolicField> march_parabolic(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train);

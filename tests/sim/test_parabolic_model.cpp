@@ -160,6 +160,49 @@ TEST(ParabolicModel, AHugeDomainStaysWithinItsNodeBudget) {
               f->rows(), f->columns, static_cast<unsigned long long>(houle::detail::max_parabolic_nodes), f->resolved_wavelength);
 }
 
+// What the build's estimate counts of a march (sim/src/build_cost.cpp): its nodes, from the depths,
+// and its wall tests. A scene the scene fuzzer found had walls of 5,300 segments across a thin domain:
+// the march tested them for 11 s of CPU while the estimate, which did not count them, said 3 s.
+TEST(ParabolicModel, TheBuildEstimateCountsTheMarchsNodesAndWallTests) {
+  houle::Scene s;
+  s.domain = {0.0, 0.0, 300.0, 120.0};
+  s.floor.base.kind = houle::FloorKind::planar_beach;
+  s.floor.base.depth = 12.0;
+  s.floor.base.slope = 0.1;
+  s.floor.base.shoreline = {0.0, 115.0};
+  s.floor.shoals.push_back(houle::Shoal{{150.0, 50.0}, 20.0, 12.0, 0.0, 3.0});
+  houle::WaveTrain t;
+  t.direction_deg = 80.0;
+  t.period = 4.0;
+  t.amplitude = 0.2;
+  s.trains = {t};
+  // A breakwater of 400 short segments zig-zagging along y = 60 with gaps of open water between
+  // its pieces, and a long diagonal wall.
+  for (int piece = 0; piece < 4; ++piece) {
+    houle::Wall w;
+    w.thickness = 1.0;
+    for (int i = 0; i <= 100; ++i) {
+      w.points.push_back({20.0 + 70.0 * piece + 0.4 * i, 60.0 + (i % 2 ? 1.5 : -1.5)});
+    }
+    s.walls.push_back(w);
+  }
+  s.walls.push_back(houle::Wall{{{250.0, 0.0}, {300.0, 40.0}}});
+  const houle::Bathymetry floor(s.floor);
+  const houle::detail::ParabolicTrain pt = houle::detail::parabolic_train(s, floor, 0);
+  const auto f = houle::detail::march_parabolic(s, floor, pt);
+  ASSERT_TRUE(f.ok());
+  const double nodes = double(f->rows()) * f->columns;
+  const double expected = double(houle::detail::parabolic_nodes_expected(s, floor, pt));
+  const double tests = double(houle::detail::parabolic_wall_tests(s, floor, pt));
+  std::printf("march: %.0f nodes, %.0f expected (bound %llu); %llu wall tests, %.0f bounded\n", nodes, expected,
+              static_cast<unsigned long long>(houle::detail::parabolic_nodes(s, floor, pt)),
+              static_cast<unsigned long long>(f->wall_tests), tests);
+  EXPECT_GT(expected, 0.7 * nodes);
+  EXPECT_LT(expected, 1.5 * nodes);
+  EXPECT_GE(tests, double(f->wall_tests));
+  EXPECT_LT(tests, 10.0 * double(f->wall_tests));
+}
+
 // A rough floor (24 each of shoals, bars and channels on a 200 m beach): rays split round every
 // feature, and insertion went on to dwt.max_rays (32,768 rays from 257), where the trace stopped and
 // the default on_cap = "error" refused a scene that validated. Where the march carries the field the
