@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <cstdint>
 #include <random>
+#include <vector>
 
 #include "houle/simd/exp.hpp"
 #include "houle/simd/simd.hpp"
@@ -29,6 +31,40 @@ TEST(Simd, RoundNearestIsExactBelow2Pow22) {
   EXPECT_EQ(houle::simd::round_nearest(3.5f), 4.0f);
   EXPECT_EQ(houle::simd::round_nearest(-1.49f), -1.0f);
   EXPECT_EQ(houle::simd::round_nearest(4194303.0f), 4194303.0f);
+}
+
+// The scalar reference's floor, which ARMv7 NEON shares (the other ISAs have an instruction for it):
+// std::floor bit for bit for every float, zeros' signs and integers past 2^23 included.
+TEST(Simd, FloorExactIsStdFloorForEveryFloat) {
+  std::vector<float> xs = {0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 2.5f, -2.5f, 4194303.5f, -4194303.5f,
+                           8388607.5f, -8388607.5f, 8388609.0f, -8388609.0f, 16777217.0f, 3e38f, -3e38f,
+                           1e-40f, -1e-40f, INFINITY, -INFINITY};
+  std::mt19937 rng(3);
+  for (int i = 0; i < 100000; ++i) {
+    std::uint32_t bits = std::uint32_t(rng());
+    float x;
+    std::memcpy(&x, &bits, sizeof x);
+    if (!std::isnan(x)) xs.push_back(x);
+  }
+  for (const float x : xs) {
+    const float got = houle::simd::floor_exact(x), want = std::floor(x);
+    ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0) << x;
+  }
+  EXPECT_TRUE(std::isnan(houle::simd::floor_exact(NAN)));
+}
+
+// min_as_std and max_as_std are std::min and std::max, NaN and signed zeros included: the batches
+// follow them (one instruction on x86), not the instruction sets' own rules.
+TEST(Simd, MinMaxAsStdAreStdMinMax) {
+  const float v[] = {0.0f, -0.0f, 1.0f, -1.0f, NAN, INFINITY, -INFINITY};
+  for (const float a : v) {
+    for (const float b : v) {
+      const float lo = houle::simd::min_as_std(a, b), hi = houle::simd::max_as_std(a, b);
+      const float want_lo = std::min(a, b), want_hi = std::max(a, b);
+      EXPECT_EQ(std::memcmp(&lo, &want_lo, sizeof lo), 0) << a << " " << b;
+      EXPECT_EQ(std::memcmp(&hi, &want_hi, sizeof hi), 0) << a << " " << b;
+    }
+  }
 }
 
 TEST(Simd, SinCosWithin1p2e7OfDouble) {

@@ -63,7 +63,7 @@ template <class A>
 inline WaterPosition<A> water_position(const WaterTable& w, simd::vfloat<A> distance_m) {
   using V = simd::vfloat<A>;
   using I = simd::vint<A>;
-  const V d = simd::select(distance_m > V(0.0f), distance_m, V(0.0f));
+  const V d = simd::max_as_std(V(0.0f), distance_m);
   const V u = V(1.0f) - simd::div(V(w.half_distance_m), d + V(w.half_distance_m));
   const V x = u * V(float(w.entries - 1));
   using std::min;  // int32 in the scalar path, xsimd's by argument-dependent lookup for batches

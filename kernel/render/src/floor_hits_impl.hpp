@@ -67,7 +67,8 @@ inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid,
   }
   const V px = ox + t0 * dx - V(f.origin_x), py = oy + t0 * dy - V(f.origin_y);
   const V cx = px * V(f.inv_cell), cy = py * V(f.inv_cell);
-  // floor_exact holds below 2^22 cells: a ray starting further out, or with a NaN, is left to SceneObjects.
+  // Below 2^22 cells a position keeps its fraction of a cell: a ray starting further out, or with a
+  // NaN, is left to SceneObjects.
   constexpr float cell_limit = 4.0e6f;
   const V acx = simd::abs(cx), acy = simd::abs(cy);
   const M near = (acx < V(cell_limit)) & (acy < V(cell_limit)) & (oz == oz) & (dz == dz);

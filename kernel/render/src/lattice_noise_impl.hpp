@@ -31,7 +31,7 @@ inline V lattice_value(I i, I j) {
 }
 
 /// Value noise in [-1, 1] on the unit lattice (a hash per lattice point, smoothstep between), for
-/// |x|, |y| < 2^22 (simd::floor_exact).
+/// |x|, |y| < 2^22 (further out a float keeps at most one bit of the fraction).
 template <class A>
 inline simd::vfloat<A> lattice_noise(simd::vfloat<A> x, simd::vfloat<A> y) {
   using V = simd::vfloat<A>;

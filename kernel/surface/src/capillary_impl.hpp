@@ -117,13 +117,11 @@ inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, const std::int
                                          simd::vfloat<A> y, simd::vfloat<A> level) {
   using V = simd::vfloat<A>;
   using I = simd::vint<A>;
-  // Comparisons, not min/max: NaN goes to a defined value the same way on every ISA.
-  level = simd::select(level > 0.0f, level, V(0.0f));
+  // std::min and std::max's rule: NaN goes to a defined value the same way on every ISA.
+  level = simd::max_as_std(V(0.0f), level);
   const V lim(f.coord_limit);
-  x = simd::select(x > -lim, x, -lim);
-  x = simd::select(x < lim, x, lim);
-  y = simd::select(y > -lim, y, -lim);
-  y = simd::select(y < lim, y, lim);
+  x = simd::min_as_std(lim, simd::max_as_std(-lim, x));
+  y = simd::min_as_std(lim, simd::max_as_std(-lim, y));
 
   V h(0.0f), gx(0.0f), gy(0.0f);
   for (std::uint32_t i = 0; i < f.octaves; ++i) {
@@ -131,8 +129,7 @@ inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, const std::int
     // Weights decrease with i: once no lane needs octave i, none needs the finer ones.
     if (!simd::any(level > fi)) break;
     V t = (level - fi) * f.fade_rate;
-    t = simd::select(t < 1.0f, t, V(1.0f));
-    t = simd::select(t > 0.0f, t, V(0.0f));
+    t = simd::max_as_std(V(0.0f), simd::min_as_std(V(1.0f), t));
     // Per-lane weight 1, smoothstep(D) or 0: the result of a lane never depends on its companions.
     const V weight = t * t * (3.0f - 2.0f * t);
 

@@ -50,7 +50,12 @@ void set_ray_params(detail::MarchContext& c, const MarchParams& p, float grid_mi
       // level > i  <=>  log_k(lambda_1 sin / (N cone)) + 1/s > i  <=>  cone / sin < (lambda_1 / N) k^(1/s - i).
       c.octave_cone[i] = float(double(np.base_wavelength) / double(np.samples_per_wavelength) *
                                std::pow(double(np.lacunarity), 1.0 / s - double(i)) * (1.0 + 1e-3));
+      // noise_bounds relies on it (lacunarity > 1): the octaves that count are always the first n.
+      HOULE_ASSERT(i == 0 || c.octave_cone[i] < c.octave_cone[i - 1], "octave thresholds fall with the octave");
       top = std::max(top, c.octave_height[i]);
+      // The order of the sums is the one the per-octave selects had: the same bits.
+      c.octaves_height[i + 1] = c.octaves_height[i] + c.octave_height[i];
+      c.octaves_slope[i + 1] = c.octaves_slope[i] + c.octave_slope[i];
     }
     const double log2_k = std::log2(double(np.lacunarity));
     c.max_level = capillary_top_level(np);

@@ -11,8 +11,9 @@
 
 namespace houle::detail {
 
-// A level index (< max_levels) is within every ISA's gather_window (16 floats on AVX2).
-static_assert(SurfaceFrame::max_levels <= 16);
+// A level index (< max_levels) and an octave count (<= max_octaves) are within every ISA's
+// gather_window (16 floats on AVX2).
+static_assert(SurfaceFrame::max_levels <= 16 && CapillaryFrame::max_octaves < 16);
 
 struct MarchContext {
   // Surface grid (SurfaceFrameView).
@@ -61,6 +62,9 @@ struct MarchContext {
   /// (= (lambda_1 / N) k^(1/s - i), s = capillary_fade_rate, times 1 + 1e-3 so that the float level
   /// never disagrees).
   float octave_cone[CapillaryFrame::max_octaves] = {};
+  /// The first n octaves' shares summed in order (n = 0..octaves), padded for simd::gather_window.
+  float octaves_height[simd::max_window_floats] = {};
+  float octaves_slope[simd::max_window_floats] = {};
   float max_level = 0.0f;           ///< capillary_top_level
   float level_offset = 0.0f;        ///< log2(lambda_1 / N) / log2(k) + 1/s: level = offset + (log2 sin - log2 footprint) / log2 k
   float inv_log2_lacunarity = 0.0f;

@@ -27,22 +27,12 @@ namespace houle::detail {
 template <class A>
 using MarchIndex = simd::vint<A>;
 
-template <class A>
-HOULE_MARCH_INLINE simd::vfloat<A> vmin(simd::vfloat<A> a, simd::vfloat<A> b) {
-  return simd::select(b < a, b, a);
-}
-template <class A>
-HOULE_MARCH_INLINE simd::vfloat<A> vmax(simd::vfloat<A> a, simd::vfloat<A> b) {
-  return simd::select(a < b, b, a);
-}
-
 /// log2(x) for x in [1e-30, 1e30] (clamped), absolute error < 2e-6: exponent from the bits, then
 /// 2/ln2 atanh(s), s = (m - 1)/(m + 1), m in [1, 2), as an odd series in s (|s| <= 1/3).
 template <class A>
 HOULE_MARCH_INLINE simd::vfloat<A> march_log2(simd::vfloat<A> x) {
   using V = simd::vfloat<A>;
-  x = simd::select(x > 1e-30f, x, V(1e-30f));  // NaN too
-  x = simd::select(x < 1e30f, x, V(1e30f));
+  x = simd::min_as_std(V(1e30f), simd::max_as_std(V(1e-30f), x));  // NaN too
   const MarchIndex<A> bits = simd::bitcast_to_int(x);  // x > 0: the sign bit is clear
   const V e = simd::to_float_exact((bits >> 23) - MarchIndex<A>(127));
   const V m = simd::bitcast_to_float((bits & MarchIndex<A>(0x007fffff)) | MarchIndex<A>(0x3f800000));
@@ -72,13 +62,11 @@ HOULE_MARCH_INLINE GridTap<A> grid_tap(const MarchContext& c, simd::vfloat<A> px
   const V n(c.cells), last(c.cells - 1.0f);
   V u = (px - ox) * inv_cell, v = (py - oy) * inv_cell;
   // Inside the grid by construction (reach); the clamps keep rounding, far lanes and NaN in bounds.
-  u = simd::select(u > 0.0f, u, V(0.0f));
-  u = simd::select(u < n, u, n);
-  v = simd::select(v > 0.0f, v, V(0.0f));
-  v = simd::select(v < n, v, n);
+  u = simd::min_as_std(n, simd::max_as_std(V(0.0f), u));
+  v = simd::min_as_std(n, simd::max_as_std(V(0.0f), v));
   V iu = simd::floor_exact(u), iv = simd::floor_exact(v);
-  iu = simd::select(iu < last, iu, last);
-  iv = simd::select(iv < last, iv, last);
+  iu = simd::min_as_std(last, iu);
+  iv = simd::min_as_std(last, iv);
   GridTap<A> t;
   t.node = simd::to_int_exact(node_base + iv * c.stride_f + iu);
   t.fu = u - iu;
@@ -127,12 +115,17 @@ template <class A>
 HOULE_MARCH_INLINE Located<A> locate(const MarchContext& c, simd::vfloat<A> px, simd::vfloat<A> py) {
   using V = simd::vfloat<A>;
   Located<A> s;
-  const V r = vmax<A>(simd::abs(px - c.centre_x), simd::abs(py - c.centre_y));
+  const V r = simd::max_as_std(simd::abs(px - c.centre_x), simd::abs(py - c.centre_y));
   // The level is the number of reaches below r (they grow with the level); its origin is read from the
   // little tables, through a permute of two registers on AVX2 and AVX-512 (a chain of two selects per
   // level was 4 % more of march_rays' instructions on AVX2, callgrind).
-  V level(0.0f);
-  for (std::uint32_t k = 0; k + 1 < c.levels; ++k) level = level + simd::select(r > c.level_reach[k], V(1.0f), V(0.0f));
+  // Two sums, each half as long a chain of dependent additions (small integers: exact in any order).
+  V even(0.0f), odd(0.0f);
+  for (std::uint32_t k = 0; k + 1 < c.levels; k += 2) {
+    even = even + simd::select(r > c.level_reach[k], V(1.0f), V(0.0f));
+    if (k + 2 < c.levels) odd = odd + simd::select(r > c.level_reach[k + 1], V(1.0f), V(0.0f));
+  }
+  const V level = even + odd;
   const MarchIndex<A> l = simd::to_int_exact(level);
   s.ox = simd::gather_window(c.level_origin_x, l);
   s.oy = simd::gather_window(c.level_origin_y, l);
@@ -193,11 +186,12 @@ HOULE_MARCH_INLINE StepBounds<A> step_bounds(const MarchContext& c, const Locate
   // The tile, clipped to the level's reach (beyond it a coarser level's bounds apply).
   const V tile = c.tile_size0 * s.scale, reach = c.reach0 * s.scale;  // exact: powers of two
   const V x0 = s.ox + ti * tile, y0 = s.oy + tj * tile;
-  const V x_lo = vmax<A>(x0, c.centre_x - reach), x_hi = vmin<A>(x0 + tile, c.centre_x + reach);
-  const V y_lo = vmax<A>(y0, c.centre_y - reach), y_hi = vmin<A>(y0 + tile, c.centre_y + reach);
-  const V sx = simd::select(dx > 0.0f, (x_hi - px) * inv_dx, simd::select(dx < 0.0f, (x_lo - px) * inv_dx, big));
-  const V sy = simd::select(dy > 0.0f, (y_hi - py) * inv_dy, simd::select(dy < 0.0f, (y_lo - py) * inv_dy, big));
-  b.s_box = vmin<A>(sx, sy);
+  const V x_lo = simd::max_as_std(x0, c.centre_x - reach), x_hi = simd::min_as_std(x0 + tile, c.centre_x + reach);
+  const V y_lo = simd::max_as_std(y0, c.centre_y - reach), y_hi = simd::min_as_std(y0 + tile, c.centre_y + reach);
+  // The side the ray leaves by (none when it does not move along the axis).
+  const V sx = simd::select(dx == 0.0f, big, (simd::select(dx > 0.0f, x_hi, x_lo) - px) * inv_dx);
+  const V sy = simd::select(dy == 0.0f, big, (simd::select(dy > 0.0f, y_hi, y_lo) - py) * inv_dy);
+  b.s_box = simd::min_as_std(sx, sy);
   if (simd::any(s.far)) {
     // Beyond the last level: the flat far plane if the ray moves away from the grids for good (it is
     // outside the last reach on an axis along which it does not come back), else the global bounds.
@@ -223,25 +217,27 @@ template <class A>
 HOULE_MARCH_INLINE simd::vfloat<A> noise_level(const MarchContext& c, simd::vfloat<A> ray_offset, simd::vfloat<A> cone) {
   using V = simd::vfloat<A>;
   V l = ray_offset - march_log2<A>(cone) * c.inv_log2_lacunarity;
-  l = simd::select(l > 0.0f, l, V(0.0f));
-  return simd::select(l < c.max_level, l, V(c.max_level));
+  return simd::min_as_std(V(c.max_level), simd::max_as_std(V(0.0f), l));
 }
 
 /// Height and slope bounds of the noise at a sample whose cone width is `cone_per_sin` times the
 /// ray's sin(grazing): octave i counts while it can have weight (level > i), i.e. while the footprint
 /// is below its threshold (octave_cone, widened a little so that rounding of the level never leaves
 /// an octave out). Both fall as the ray goes on, so they hold for the rest of a step. No logarithm.
+/// The thresholds fall with i, so the octaves that count are the first n: the bounds are the sums
+/// of the first n shares, looked up (the count is a sum of small integers, exact in any order).
 template <class A>
 HOULE_MARCH_INLINE void noise_bounds(const MarchContext& c, simd::vfloat<A> cone_per_sin, simd::vfloat<A>& height,
                                      simd::vfloat<A>& slope) {
   using V = simd::vfloat<A>;
-  height = V(0.0f);
-  slope = V(0.0f);
-  for (std::uint32_t i = 0; i < c.octaves; ++i) {
-    const auto on = cone_per_sin < c.octave_cone[i];
-    height = height + simd::select(on, V(c.octave_height[i]), V(0.0f));
-    slope = slope + simd::select(on, V(c.octave_slope[i]), V(0.0f));
+  V even(0.0f), odd(0.0f);
+  for (std::uint32_t i = 0; i < c.octaves; i += 2) {
+    even = even + simd::select(cone_per_sin < c.octave_cone[i], V(1.0f), V(0.0f));
+    if (i + 1 < c.octaves) odd = odd + simd::select(cone_per_sin < c.octave_cone[i + 1], V(1.0f), V(0.0f));
   }
+  const MarchIndex<A> n = simd::to_int_exact(even + odd);
+  height = simd::gather_window(c.octaves_height, n);
+  slope = simd::gather_window(c.octaves_slope, n);
 }
 
 /// The two uses of capillary_impl.hpp (the only coupling to it): height alone while marching, height
@@ -342,14 +338,13 @@ HOULE_MARCH_INLINE MarchState<A> march_start(const MarchContext& c, simd::vfloat
   const V inv_dz = simd::div(one, simd::select(r.dz == zero, one, r.dz));
 
   // The ray's end and its interval in the slab.
-  m.t_end = simd::select(t_max < c.max_distance, t_max, V(c.max_distance));  // NaN: max_distance
-  m.t_end = simd::select(m.t_end > zero, m.t_end, zero);
+  m.t_end = simd::max_as_std(zero, simd::min_as_std(V(c.max_distance), t_max));  // NaN: max_distance
   const V t_top = (c.z_hi - r.oz) * inv_dz, t_bottom = (c.z_lo - r.oz) * inv_dz;
   const M inside = (r.oz >= c.z_lo) & (r.oz <= c.z_hi);
   const V t_enter = simd::select(r.dz > zero, t_bottom, simd::select(r.dz < zero, t_top, simd::select(inside, zero, big)));
   const V t_exit = simd::select(r.dz > zero, t_top, simd::select(r.dz < zero, t_bottom, simd::select(inside, big, zero)));
-  const V t_in = vmax<A>(t_enter, zero);
-  m.t_out = vmin<A>(t_exit, m.t_end);
+  const V t_in = simd::max_as_std(t_enter, zero);
+  m.t_out = simd::min_as_std(t_exit, m.t_end);
   m.active = finite & (t_in < m.t_out);
   m.t = simd::select(m.active, t_in, zero);
   m.sigma = one;
@@ -384,7 +379,7 @@ HOULE_MARCH_INLINE void march_step(const MarchContext& c, MarchState<A>& m, std:
       const V level = noise_level<A>(c, r.level_offset, cone);
       f = simd::select(near, f_grid - noise_height<A>(*c.noise, px, py, level), f_grid);
       // The level falls along the ray; its change moves the noise by at most this much per m.
-      level_term = simd::div(V(c.level_rate * c.pixel_angle), vmax<A>(cone, V(1e-20f)));
+      level_term = simd::div(V(c.level_rate * c.pixel_angle), simd::max_as_std(cone, V(1e-20f)));
     }
     if (it == 0) m.sigma = simd::select(f >= zero, one, V(-1.0f));
     g_env = m.sigma * f_grid - noise_h;
@@ -409,20 +404,20 @@ HOULE_MARCH_INLINE void march_step(const MarchContext& c, MarchState<A>& m, std:
   // The step: the largest distance that provably holds no crossing, within the bounds' box, but at
   // least delta.
   const StepBounds<A> bd = step_bounds<A>(c, s, px, py, r.dx, r.dy, r.inv_dx, r.inv_dy, m.active, m.tiles);
-  const V lip = vmax<A>(r.adz + bd.slope_x * r.adx + bd.slope_y * r.ady, V(1e-30f));
+  const V lip = simd::max_as_std(r.adz + bd.slope_x * r.adx + bd.slope_y * r.ady, V(1e-30f));
   V safe = simd::select(g_env > zero, simd::div(g_env, lip), zero);
   if (noise) {
     const V lip_full = lip + noise_s * r.horizontal + level_term;
-    safe = vmax<A>(safe, simd::select(near & (g > zero), simd::div(g, lip_full), zero));
+    safe = simd::max_as_std(safe, simd::select(near & (g > zero), simd::div(g, lip_full), zero));
   }
   const V top = simd::select(m.sigma > zero, bd.h_max + noise_h, bd.h_min - noise_h);
   const V gap = m.sigma * (pz - top), rate = zero - m.sigma * r.dz;
-  safe = vmax<A>(safe, simd::select(gap > zero, simd::select(rate > zero, simd::div(gap, rate), big), zero));
-  const V delta = vmax<A>(c.step_fraction * cone, V(c.min_step));
-  const V step = vmax<A>(vmin<A>(safe, bd.s_box + 0.125f * delta), delta);
+  safe = simd::max_as_std(safe, simd::select(gap > zero, simd::select(rate > zero, simd::div(gap, rate), big), zero));
+  const V delta = simd::max_as_std(c.step_fraction * cone, V(c.min_step));
+  const V step = simd::max_as_std(simd::min_as_std(safe, bd.s_box + 0.125f * delta), delta);
   m.t_prev = simd::select(m.active, t, m.t_prev);
   m.g_prev = simd::select(m.active, g, m.g_prev);
-  m.t = simd::select(m.active, vmin<A>(t + step, m.t_out), t);
+  m.t = simd::select(m.active, simd::min_as_std(t + step, m.t_out), t);
 }
 
 /// One Illinois iteration on [a, b] of a packet with crossed lanes: g(a) > 0 >= g(b) (a == b when the
@@ -434,7 +429,7 @@ HOULE_MARCH_INLINE void refine_step(const MarchContext& c, MarchState<A>& m) {
   const V zero(0.0f), one(1.0f);
   const V den = m.ga - m.gb;
   V x = simd::select(den > zero, m.a + (m.b - m.a) * simd::div(m.ga, simd::select(den > zero, den, one)), m.a);
-  x = vmax<A>(vmin<A>(x, m.b), m.a);
+  x = simd::max_as_std(simd::min_as_std(x, m.b), m.a);
   const V gx = full_g<A>(c, m.r, x, m.sigma);
   const M rb = m.crossed & (gx <= zero), ra = m.crossed & !(gx <= zero);
   m.ga = simd::select(rb & (m.side > zero), m.ga * 0.5f, m.ga);  // b kept twice: halve the stale end's value
@@ -461,7 +456,7 @@ HOULE_MARCH_INLINE void march_result(const MarchContext& c, MarchState<A>& m, Ma
   if (simd::any(crossed)) {
     const V den = m.ga - m.gb;
     t_hit = simd::select(den > zero, m.a + (m.b - m.a) * simd::div(m.ga, simd::select(den > zero, den, one)), m.a);
-    t_hit = vmax<A>(vmin<A>(t_hit, m.b), m.a);
+    t_hit = simd::max_as_std(simd::min_as_std(t_hit, m.b), m.a);
   }
 
   out.t = simd::select(crossed, t_hit, simd::select(exhausted, m.t, m.t_end));

@@ -23,13 +23,13 @@ void surface_column_stats(const ColumnStatsJob& job) noexcept {
       if (j > 0) {
         const V next = simd::load<A>(r);
         const V d = simd::abs(next - cur);
-        dy = simd::select(d > dy, d, dy);
+        dy = simd::max_as_std(dy, d);
         cur = next;
-        lo = simd::select(cur < lo, cur, lo);
-        hi = simd::select(cur > hi, cur, hi);
+        lo = simd::min_as_std(lo, cur);
+        hi = simd::max_as_std(hi, cur);
       }
       const V e = simd::abs(simd::load<A>(r + 1) - cur);
-      dx = simd::select(e > dx, e, dx);
+      dx = simd::max_as_std(dx, e);
     }
     simd::store<A>(job.lo + i, lo);
     simd::store<A>(job.hi + i, hi);

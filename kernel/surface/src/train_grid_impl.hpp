@@ -183,10 +183,9 @@ inline simd::vfloat<A> footprint_weight(const FootprintLanes<A>& l, simd::vfloat
   using V = simd::vfloat<A>;
   const V k2 = kx * kx + ky * ky, ke = kx * l.ex + ky * l.ey;
   const V pixel = l.across2 * k2 + l.stretch * (ke * ke), grid = l.grid2 * k2;
-  const V p = simd::sqrt(simd::select(pixel < grid, grid, pixel));
+  const V p = simd::sqrt(simd::max_as_std(pixel, grid));
   V u = V(2.0f) - p * 0.318309886f;  // 1 / pi
-  u = simd::select(u > 0.0f, u, V(0.0f));
-  u = simd::select(u < 1.0f, u, V(1.0f));
+  u = simd::min_as_std(V(1.0f), simd::max_as_std(V(0.0f), u));
   return u * u * (V(3.0f) - 2.0f * u);
 }
 

@@ -89,6 +89,30 @@ using xsimd::min;
 using xsimd::select;
 #endif
 
+/// std::min(a, b) and std::max(a, b) lane by lane, `b < a ? b : a` and `a < b ? b : a`: NaN and signed
+/// zeros go as in the scalar code on every ISA (xsimd's min and max follow each instruction set's own
+/// rule). On x86 one instruction each: minps(x, y) is `x < y ? x : y`, maxps(x, y) `x > y ? x : y`.
+inline float min_as_std(float a, float b) { return b < a ? b : a; }
+inline float max_as_std(float a, float b) { return a < b ? b : a; }
+#if HOULE_SIMD_BATCHES
+template <class A>
+inline xsimd::batch<float, A> min_as_std(xsimd::batch<float, A> a, xsimd::batch<float, A> b) {
+#if defined(__x86_64__) || defined(__i386__)
+  return xsimd::min(b, a);
+#else
+  return xsimd::select(b < a, b, a);
+#endif
+}
+template <class A>
+inline xsimd::batch<float, A> max_as_std(xsimd::batch<float, A> a, xsimd::batch<float, A> b) {
+#if defined(__x86_64__) || defined(__i386__)
+  return xsimd::max(b, a);
+#else
+  return xsimd::select(a < b, b, a);
+#endif
+}
+#endif
+
 // Division and square root: use these, never `/` or xsimd::sqrt on batches. xsimd 8.1 computes both
 // on NEON (ARMv7 and, by inheritance, AArch64) from a reciprocal estimate plus Newton steps: neither
 // correctly rounded nor equal to the scalar result. AArch64 has exact vector instructions; ARMv7 has
@@ -135,17 +159,30 @@ inline V round_nearest(V x) {
   return (x + magic) - magic;
 }
 
-/// floor for |x| < 2^22: the rounding above, then a correction; exact and the same on every ISA
-/// (ARMv7 NEON has no rounding instruction).
-template <class V>
-inline V floor_exact(V x) {
-  const V r = round_nearest(x);
-  if constexpr (std::is_same_v<V, float>) {
-    return r - static_cast<float>(r > x);  // no branch: r > x is a coin toss for the predictor
-  } else {
-    return r - select(r > x, V(1.0f), V(0.0f));
-  }
+/// floor(x) for every float (NaN stays NaN, ±0 and ±inf stay themselves), the same on every ISA. x86
+/// (SSE4.1 and later) and AArch64 have an instruction for it. The scalar reference and ARMv7 NEON,
+/// which has none, truncate to an integer and take one off where that went up, and keep x where it
+/// is an integer already (|x| >= 2^23) or a zero, whose sign the truncation would lose.
+inline float floor_exact(float x) {
+  if (!(std::abs(x) < 8388608.0f) || x == 0.0f) return x;
+  const float t = static_cast<float>(static_cast<std::int32_t>(x));
+  return t - static_cast<float>(t > x);  // no branch: t > x is a coin toss for the predictor
 }
+#if HOULE_SIMD_BATCHES
+template <class A>
+inline xsimd::batch<float, A> floor_exact(xsimd::batch<float, A> x) {
+#if defined(__x86_64__) || defined(__i386__)
+  return xsimd::floor(x);
+#elif defined(__aarch64__)
+  return vrndmq_f32(x);
+#else
+  using V = xsimd::batch<float, A>;
+  const V t = xsimd::batch_cast<float>(xsimd::batch_cast<std::int32_t>(x));
+  const V f = t - xsimd::select(t > x, V(1.0f), V(0.0f));
+  return xsimd::select((xsimd::abs(x) < V(8388608.0f)) & (x != V(0.0f)), f, x);
+#endif
+}
+#endif
 
 /// sin and cos for |r| < 0.78 (below pi/4): sincos without its range reduction, which leaves
 /// such arguments as they are (n = 0), so the same bits for less than half the work.
