@@ -418,8 +418,10 @@ PRESET_NOTES = (
     "are kept on purpose: `film`'s 8 samples per pixel against 4 (the curve levels off at the LOD's floor; "
     "8 is the paper's Plate 3 setting) and 8 surface levels against 7 (no change at 320x180, a small one at "
     "1280x720: `houle_accuracy --only surface.levels --size 1280x720`). "
-    "`draft` trades the surface grid (128 cells, 0.5 m, 7 levels, sea_cell 1 m) and RGB absorption for "
-    "speed: each of those is a front point left of realtime's. The stages that cost most at `realtime` "
+    "`draft` trades the surface grid (128 cells, 0.5 m, 7 levels, sea_cell 1 m) for speed: each of those "
+    "is a front point left of realtime's. It no longer trades eq. 12 per wavelength for three "
+    "exponentials: the wavelengths' table is looked up in packets, and measured faster than the "
+    "exponentials per pixel (render.spectral_absorption below). The stages that cost most at `realtime` "
     "are listed above the table; when they get faster the presets' times move: rerun scripts/accuracy."
 )
 

@@ -42,7 +42,6 @@ Quality quality_preset(QualityPreset q) noexcept {
     case QualityPreset::draft:
       r.render.march.step_fraction = 0.5f;
       r.render.march.refine_iterations = 0;
-      r.render.spectral_absorption = false;
       r.render.shadows = false;
       r.surface.levels = 7;
       r.surface.cells = 128;
