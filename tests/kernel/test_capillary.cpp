@@ -118,9 +118,14 @@ TEST(Capillary, EveryIsaMatchesScalarBitForBitIncludingTailsAndMixedLevels) {
           ref.x[i] = coord(rng);
           ref.y[i] = coord(rng);
           const float pick = u01(rng);
-          // Mixed levels in every batch: fractional, exact integers, out of range, NaN; a few huge coordinates.
+          // Mixed levels in every batch: fractional, exact integers, out of range, NaN; a few huge, infinite,
+          // NaN and signed-zero coordinates (the clamps' and floors' edge cases).
           ref.level[i] = pick < 0.6f ? lvl(rng) : pick < 0.85f ? std::floor(lvl(rng)) : pick < 0.95f ? 0.0f : NAN;
-          if (u01(rng) < 0.01f) ref.x[i] = 1e9f;
+          const float edge = u01(rng);
+          if (edge < 0.01f) ref.x[i] = 1e9f;
+          else if (edge < 0.015f) ref.y[i] = -INFINITY;
+          else if (edge < 0.02f) ref.x[i] = NAN;
+          else if (edge < 0.03f) ref.x[i] = -0.0f, ref.y[i] = 0.0f;
         }
         got.x = ref.x, got.y = ref.y, got.level = ref.level;
         ref.eval(houle::Isa::scalar, f);
