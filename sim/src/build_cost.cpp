@@ -272,8 +272,9 @@ BuildCost estimate_build_cost(const Scene& s, const Quality& quality, std::uint6
       if (s.dwt.analytic_shortcut && !train_needs_rays(s, t)) continue;
       const detail::ParabolicTrain train = detail::parabolic_train(s, floor, t);
       const double n = double(detail::parabolic_nodes(s, floor, train));
-      march_nodes += double(detail::parabolic_nodes_expected(s, floor, train));
-      if (!s.walls.empty()) march_wall_tests += double(detail::parabolic_wall_tests(s, floor, train));
+      const detail::ParabolicWork work = detail::parabolic_work(s, floor, train);
+      march_nodes += double(work.nodes);
+      march_wall_tests += double(work.wall_tests);
       largest_march = std::max(largest_march, n);
     }
   }

@@ -251,7 +251,7 @@ std::uint64_t parabolic_nodes(const Scene& scene, const Bathymetry& floor, const
   return g.rows_bound * g.columns;
 }
 
-std::uint64_t parabolic_nodes_expected(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train) {
+ParabolicWork parabolic_work(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train) {
   const Grid g = make_grid(scene, floor, train);
   const Domain& d = scene.domain;
   const double k0 = deep_water_wavenumber(train.omega);
@@ -259,7 +259,7 @@ std::uint64_t parabolic_nodes_expected(const Scene& scene, const Bathymetry& flo
   // its rows are the integral of that mean over s, over sigma: sampled on a coarse lattice here.
   constexpr int along = 128, across = 64;
   const double span_s = g.s_hi - g.s_lo, span_n = double(g.columns - 1) * g.dn;
-  double rows = 2.0;
+  double expected_rows = 2.0;
   for (int a = 0; a < along; ++a) {
     const double s = g.s_lo + (double(a) + 0.5) / along * span_s;
     double sum = 0.0;
@@ -274,19 +274,17 @@ std::uint64_t parabolic_nodes_expected(const Scene& scene, const Bathymetry& flo
       ++wet;
     }
     const double kbar = std::min(wet > 0 ? sum / wet : train.k_far, g.k_max);
-    rows += kbar * span_s / along / g.sigma;
+    expected_rows += kbar * span_s / along / g.sigma;
   }
-  return std::min(g.rows_bound, std::uint64_t(std::ceil(rows))) * g.columns;
-}
+  ParabolicWork w;
+  w.nodes = std::min(g.rows_bound, std::uint64_t(std::ceil(expected_rows))) * g.columns;
 
-std::uint64_t parabolic_wall_tests(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train) {
-  const Grid g = make_grid(scene, floor, train);
   const double span = (g.s_hi - g.s_lo) + double(g.columns) * g.dn;
   const std::vector<Capsule> walls = march_walls(scene, 2.0 * span);
   // Rows are at least sigma / k_max apart (rows_bound counts them so) and at most sigma / k0 (the
   // mean wavenumber is never below deep water's); the last may end that far past s_hi.
   const double rows_per_m = double(g.rows_bound) / std::max(g.s_hi - g.s_lo, g.dn);
-  const double last_step = g.sigma / deep_water_wavenumber(train.omega);
+  const double last_step = g.sigma / k0;
   // Every row looks at the walls that start before it; the rows a wall spans test the nodes across
   // its extent, grown by its radius and a node each side (march_parabolic's fill_row).
   double tests = double(g.rows_bound) * double(walls.size());
@@ -300,7 +298,8 @@ std::uint64_t parabolic_wall_tests(const Scene& scene, const Bathymetry& floor, 
     const double columns = std::min(double(g.columns), (std::abs(nb - na) + 2.0 * c.radius) / g.dn + 5.0);
     tests += 3.0 * rows * columns;
   }
-  return tests < 0x1p60 ? std::uint64_t(tests) : std::uint64_t(1) << 60;
+  w.wall_tests = tests < 0x1p60 ? std::uint64_t(tests) : std::uint64_t(1) << 60;
+  return w;
 }
 
 Expected<ParabolicField> march_parabolic(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& t) {

@@ -96,13 +96,14 @@ ParabolicTrain parabolic_train(const Scene& scene, const Bathymetry& floor, std:
 inline constexpr std::uint64_t max_parabolic_nodes = 1ull << 22;
 std::uint64_t parabolic_nodes(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train);
 
-/// The nodes the march of a train is expected to take, at most parabolic_nodes: its step follows the
-/// rows' mean wavenumber, estimated from the depths on a coarse lattice.
-std::uint64_t parabolic_nodes_expected(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train);
-
-/// A bound on the wall tests of a train's march (the wet, reached and open tests of the nodes near
-/// each wall segment, and each row's look at the segments), for the build's estimate.
-std::uint64_t parabolic_wall_tests(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train);
+/// What the march of a train is expected to do, for the build's estimate: the nodes it takes (at most
+/// parabolic_nodes: its step follows the rows' mean wavenumber, estimated from the depths on a coarse
+/// lattice), and a bound on its wall tests (the wet, reached and open tests of the nodes near each wall
+/// segment, and each row's look at the segments).
+struct ParabolicWork {
+  std::uint64_t nodes = 0, wall_tests = 0;
+};
+ParabolicWork parabolic_work(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train);
 
 /// Marches one train over a valid scene's floor, walls and land.
 Expected<ParabolicField> march_parabolic(const Scene& scene, const Bathymetry& floor, const ParabolicTrain& train);

@@ -192,8 +192,8 @@ TEST(ParabolicModel, TheBuildEstimateCountsTheMarchsNodesAndWallTests) {
   const auto f = houle::detail::march_parabolic(s, floor, pt);
   ASSERT_TRUE(f.ok());
   const double nodes = double(f->rows()) * f->columns;
-  const double expected = double(houle::detail::parabolic_nodes_expected(s, floor, pt));
-  const double tests = double(houle::detail::parabolic_wall_tests(s, floor, pt));
+  const houle::detail::ParabolicWork work = houle::detail::parabolic_work(s, floor, pt);
+  const double expected = double(work.nodes), tests = double(work.wall_tests);
   std::printf("march: %.0f nodes, %.0f expected (bound %llu); %llu wall tests, %.0f bounded\n", nodes, expected,
               static_cast<unsigned long long>(houle::detail::parabolic_nodes(s, floor, pt)),
               static_cast<unsigned long long>(f->wall_tests), tests);

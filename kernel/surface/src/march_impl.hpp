@@ -27,6 +27,19 @@ namespace houle::detail {
 template <class A>
 using MarchIndex = simd::vint<A>;
 
+/// How many of the masks holds(0) .. holds(n - 1) hold in each lane, as two sums taken in turn: each
+/// half as long a chain of dependent additions (of small integers: exact in any order).
+template <class A, class Holds>
+HOULE_MARCH_INLINE simd::vfloat<A> count_holding(std::uint32_t n, Holds holds) {
+  using V = simd::vfloat<A>;
+  V even(0.0f), odd(0.0f);
+  for (std::uint32_t i = 0; i < n; i += 2) {
+    even = even + simd::select(holds(i), V(1.0f), V(0.0f));
+    if (i + 1 < n) odd = odd + simd::select(holds(i + 1), V(1.0f), V(0.0f));
+  }
+  return even + odd;
+}
+
 /// log2(x) for x in [1e-30, 1e30] (clamped), absolute error < 2e-6: exponent from the bits, then
 /// 2/ln2 atanh(s), s = (m - 1)/(m + 1), m in [1, 2), as an odd series in s (|s| <= 1/3).
 template <class A>
@@ -119,13 +132,7 @@ HOULE_MARCH_INLINE Located<A> locate(const MarchContext& c, simd::vfloat<A> px, 
   // The level is the number of reaches below r (they grow with the level); its origin is read from the
   // little tables, through a permute of two registers on AVX2 and AVX-512 (a chain of two selects per
   // level was 4 % more of march_rays' instructions on AVX2, callgrind).
-  // Two sums, each half as long a chain of dependent additions (small integers: exact in any order).
-  V even(0.0f), odd(0.0f);
-  for (std::uint32_t k = 0; k + 1 < c.levels; k += 2) {
-    even = even + simd::select(r > c.level_reach[k], V(1.0f), V(0.0f));
-    if (k + 2 < c.levels) odd = odd + simd::select(r > c.level_reach[k + 1], V(1.0f), V(0.0f));
-  }
-  const V level = even + odd;
+  const V level = count_holding<A>(c.levels - 1, [&](std::uint32_t k) { return r > c.level_reach[k]; });
   const MarchIndex<A> l = simd::to_int_exact(level);
   s.ox = simd::gather_window(c.level_origin_x, l);
   s.oy = simd::gather_window(c.level_origin_y, l);
@@ -229,13 +236,8 @@ HOULE_MARCH_INLINE simd::vfloat<A> noise_level(const MarchContext& c, simd::vflo
 template <class A>
 HOULE_MARCH_INLINE void noise_bounds(const MarchContext& c, simd::vfloat<A> cone_per_sin, simd::vfloat<A>& height,
                                      simd::vfloat<A>& slope) {
-  using V = simd::vfloat<A>;
-  V even(0.0f), odd(0.0f);
-  for (std::uint32_t i = 0; i < c.octaves; i += 2) {
-    even = even + simd::select(cone_per_sin < c.octave_cone[i], V(1.0f), V(0.0f));
-    if (i + 1 < c.octaves) odd = odd + simd::select(cone_per_sin < c.octave_cone[i + 1], V(1.0f), V(0.0f));
-  }
-  const MarchIndex<A> n = simd::to_int_exact(even + odd);
+  const MarchIndex<A> n = simd::to_int_exact(
+      count_holding<A>(c.octaves, [&](std::uint32_t i) { return cone_per_sin < c.octave_cone[i]; }));
   height = simd::gather_window(c.octaves_height, n);
   slope = simd::gather_window(c.octaves_slope, n);
 }
