@@ -2,7 +2,9 @@
 // marching of a frame of primary rays (one thread), with and without capillary noise.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -101,9 +103,10 @@ void bm_march(benchmark::State& state, houle::Isa isa, bool noise) {
   std::vector<std::uint32_t> evaluations(width);
   const houle::MarchHits hits{t.data(), x.data(), y.data(), z.data(), gx.data(), gy.data(), status.data(), nullptr,
                               evaluations.data()};
-  double evals = 0.0, sea_evals = 0.0, sea = 0.0;
+  double evals = 0.0, sea_evals = 0.0, sea = 0.0, packet_evals = 0.0;
+  const std::size_t lanes = houle::isa_width(isa);
   for (auto _ : state) {
-    evals = sea_evals = sea = 0.0;
+    evals = sea_evals = sea = packet_evals = 0.0;
     for (std::uint32_t row = 0; row < height; ++row) {
       houle::march_camera_row(isa, s.frame, s.camera, p, row, 0, width, 0.5f, 0.5f, hits);
       for (std::uint32_t i = 0; i < width; ++i) {
@@ -111,6 +114,12 @@ void bm_march(benchmark::State& state, houle::Isa isa, bool noise) {
         evals += evaluations[i];
         sea_evals += hit ? evaluations[i] : 0.0;
         sea += hit;
+      }
+      // A packet steps while any of its lanes does (the march's packets are consecutive pixels).
+      for (std::size_t i = 0; i < width; i += lanes) {
+        const auto first = evaluations.begin() + std::ptrdiff_t(i);
+        packet_evals += double(*std::max_element(first, first + std::ptrdiff_t(std::min<std::size_t>(lanes, width - i)))) *
+                        double(lanes);
       }
     }
     benchmark::ClobberMemory();
@@ -126,6 +135,8 @@ void bm_march(benchmark::State& state, houle::Isa isa, bool noise) {
   state.counters["evals_per_ray"] = evals / rays;
   state.counters["evals_per_sea_ray"] = sea > 0.0 ? sea_evals / sea : 0.0;
   state.counters["sea_fraction"] = sea / rays;
+  // The share of the packets' lanes that do work while their packet steps.
+  state.counters["lane_use"] = packet_evals > 0.0 ? evals / packet_evals : 0.0;
 }
 
 const bool registered = [] {
