@@ -487,6 +487,34 @@ TEST(March, EachRayGetsTheBitsItGetsAlone) {
   }
 }
 
+TEST(March, APlanPreparedOnceMarchesEveryBatchAsMarchRaysDoes) {
+  // The renderer prepares one MarchPlan per frame and marches each row with it: the same bits as
+  // march_rays, which makes the set-up at each call, for batches of every size after one prepare.
+  const Scene s = make_scene(-8.0f, 21.0f, 5.0);
+  auto noise_frame = houle::make_capillary_frame(houle::CapillaryParams{}, 5.0);
+  ASSERT_TRUE(noise_frame.ok());
+  houle::MarchParams p = default_params();
+  p.noise = &noise_frame.value();
+  houle::MarchPlan plan;
+  plan.prepare(s.frame, p);
+  std::mt19937 rng(2718);
+  for (std::size_t n : {std::size_t(1), std::size_t(16 * 3 + 5), std::size_t(8 * 40 + 3)}) {
+    const Rays r = camera_rays(rng, n, s.cx, s.cy, -1.0f, 10.0f, -60.0f, 3.0f);
+    Hits want(n), got(n);
+    houle::march_rays(s.frame, p, r.view(), n, want.view());
+    plan.march(r.view(), n, got.view());
+    std::size_t differ = 0, hits = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      differ += want.t[i] != got.t[i] || want.gx[i] != got.gx[i] || want.gy[i] != got.gy[i] ||
+                want.level[i] != got.level[i] || want.status[i] != got.status[i] ||
+                want.evaluations[i] != got.evaluations[i] || want.variance[i] != got.variance[i];
+      hits += got.status[i] == houle::MarchStatus::hit;
+    }
+    EXPECT_EQ(differ, 0u) << n;
+    EXPECT_GT(hits, 0u) << n;
+  }
+}
+
 TEST(March, WithCapillaryNoiseFindsTheFirstCrossing) {
   const Scene s = make_scene(4.0f, 4.0f, 3.0);
   houle::CapillaryParams cp;

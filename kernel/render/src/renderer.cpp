@@ -222,6 +222,7 @@ struct Renderer::Impl {
   RenderView view = RenderView::shaded;
   bool aovs = false;  // out has an AOV to fill
   MarchParams march;
+  MarchPlan march_plan;  // march's, prepared once per frame for every row
   bool camera_under = false;
   double primary_floor_lo = 0.0;
   detail::SeaLightParams sea_light;  // this frame's light for the sea seen from above
@@ -754,7 +755,7 @@ void Renderer::Impl::render_row(Scratch& s, std::uint32_t row) noexcept {
     camera_row_rays(camera, row, 0, w, offsets[k].x, offsets[k].y, a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]);
     primary_hits(s, (std::size_t(row) * samples + k) * w);
     const auto t1 = Clock::now();
-    march_rays(*surface, march, rays, w, hits);
+    march_plan.march(rays, w, hits);
     const auto t2 = Clock::now();
     shade_sample(s, rgb, k == 0);
     if (aovs) add_aovs(s, row, k);
@@ -968,6 +969,7 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   r.march.pixel_angle = camera.pixel_angle;
   r.march.quality = r.quality.march;
   r.march.noise = r.noise;
+  r.march_plan.prepare(surface, r.march);
   r.camera_under = camera.position[2] < surface.height_at(camera.position[0], camera.position[1]);
   // Below the sea's slab a primary ray from above has crossed the sea: the floor and the objects
   // matter only above it. The scene's bound of the sea's height, when this frame lies within it, gives

@@ -119,8 +119,7 @@ void check_params(const MarchParams& p) noexcept {
   HOULE_ASSERT(q.refine_iterations >= 0 && q.max_steps >= 1, "MarchQuality: refine_iterations >= 0 and max_steps >= 1");
 }
 
-void check_rays(const MarchParams& p, const MarchRays& rays, std::size_t n) noexcept {
-  check_params(p);
+void check_rays(const MarchRays& rays, std::size_t n) noexcept {
   HOULE_ASSERT(n == 0 || (rays.ox != nullptr && rays.oy != nullptr && rays.oz != nullptr && rays.dx != nullptr &&
                           rays.dy != nullptr && rays.dz != nullptr),
                "march_rays: n origins and directions");
@@ -151,13 +150,15 @@ void march_row(const detail::SurfaceTable& k, const SurfaceFrame& frame, const C
 
 void march_rays(const SurfaceFrame& frame, const MarchParams& params, const MarchRays& rays, std::size_t n,
                 const MarchHits& hits) noexcept {
-  check_rays(params, rays, n);
+  check_params(params);
+  check_rays(rays, n);
   simd::active_table<detail::SurfaceTable>().march_rays(make_context(frame, params), rays, n, hits);
 }
 
 void march_rays(Isa isa, const SurfaceFrame& frame, const MarchParams& params, const MarchRays& rays, std::size_t n,
                 const MarchHits& hits) noexcept {
-  check_rays(params, rays, n);
+  check_params(params);
+  check_rays(rays, n);
   table(isa).march_rays(make_context(frame, params), rays, n, hits);
 }
 
@@ -170,6 +171,21 @@ void march_camera_row(Isa isa, const SurfaceFrame& frame, const Camera& camera, 
                       std::uint32_t row, std::uint32_t x0, std::size_t n, float sub_x, float sub_y,
                       const MarchHits& hits) noexcept {
   march_row(table(isa), frame, camera, params, row, x0, n, sub_x, sub_y, hits);
+}
+
+MarchPlan::MarchPlan() : c_(std::make_unique<detail::MarchContext>()) {}
+MarchPlan::~MarchPlan() = default;
+MarchPlan::MarchPlan(MarchPlan&&) noexcept = default;
+MarchPlan& MarchPlan::operator=(MarchPlan&&) noexcept = default;
+
+void MarchPlan::prepare(const SurfaceFrame& frame, const MarchParams& params) noexcept {
+  check_params(params);
+  *c_ = make_context(frame, params);
+}
+
+void MarchPlan::march(const MarchRays& rays, std::size_t n, const MarchHits& hits) const noexcept {
+  check_rays(rays, n);
+  simd::active_table<detail::SurfaceTable>().march_rays(*c_, rays, n, hits);
 }
 
 MarchProbe::MarchProbe(const SurfaceFrame& frame, const MarchParams& params)

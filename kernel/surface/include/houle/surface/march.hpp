@@ -105,6 +105,25 @@ namespace detail {
 struct MarchContext;
 }
 
+/// The marcher's set-up for one frame and its parameters (the levels' tables, the cone, the noise's
+/// bounds), made once by prepare() and used for every batch of the frame's rays; march_rays makes it
+/// at every call, which cost a row of rays 1.5 us (docs/design.md 10). The frame must stay as it was
+/// prepared while the plan marches against it. Construction allocates; prepare() and march() do not.
+class MarchPlan {
+ public:
+  MarchPlan();
+  ~MarchPlan();
+  MarchPlan(MarchPlan&&) noexcept;
+  MarchPlan& operator=(MarchPlan&&) noexcept;
+
+  void prepare(const SurfaceFrame& frame, const MarchParams& params) noexcept;
+  /// march_rays on the prepared frame and parameters, with the dispatched ISA.
+  void march(const MarchRays& rays, std::size_t n, const MarchHits& hits) const noexcept;
+
+ private:
+  std::unique_ptr<detail::MarchContext> c_;
+};
+
 /// The marcher's surface for one frame and parameters, evaluated one point at a time by the scalar
 /// reference exactly as the marcher does (LOD level, noise at the level for t): for dense references
 /// in tests and for tools. Construction allocates (it is not frame-loop code).
