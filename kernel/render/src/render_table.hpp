@@ -8,6 +8,7 @@
 #include "sand.hpp"
 #include "sea_light.hpp"
 #include "floor_hits.hpp"
+#include "ray_pack.hpp"
 #include "under_light.hpp"
 
 namespace houle::detail {
@@ -26,6 +27,7 @@ struct RenderTable {
   void (*sea_glint_batch)(const SeaLightParams&, const SeaLightInput&, const float*, std::size_t, SeaLightOutput) noexcept;
   void (*floor_hits_batch)(const FloorGridView&, const ObjectBounds&, const FloorRays&, std::size_t, FloorHits) noexcept;
   void (*under_light_batch)(const UnderLightParams&, const UnderLightInput&, std::size_t, UnderLightOutput) noexcept;
+  std::size_t (*pack_rays_batch)(const RayPackInput&, std::size_t, const RayPackParams&, RayPackOutput) noexcept;
 };
 
 }  // namespace houle::detail

@@ -15,6 +15,7 @@
 #include "houle/runtime/thread_pool.hpp"
 #include "floor_hits.hpp"
 #include "foam.hpp"
+#include "ray_pack.hpp"
 #include "sand.hpp"
 #include "sand_impl.hpp"
 #include "scene_objects.hpp"
@@ -161,7 +162,7 @@ struct alignas(64) Scratch {
     object = own_object.data();
     under.assign(width, SurfaceHit{});
     air.assign(width, SurfaceHit{});
-    ray_pixel.assign(width, 0);
+    ray_pixel.assign(stride, 0);  // padded, as the arrays: pack_rays writes whole batches
   }
 };
 
@@ -385,6 +386,13 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
   return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
 }
 
+/// Where pack_rays and pack_ray put a row's rays for nearest_hits.
+static detail::RayPackOutput packed_rays(Scratch& s) {
+  float* const* a = s.a;
+  return {a[Scratch::ray_ox], a[Scratch::ray_oy], a[Scratch::ray_oz], a[Scratch::ray_dx], a[Scratch::ray_dy],
+          a[Scratch::ray_dz], a[Scratch::ray_reach], s.ray_pixel.data()};
+}
+
 /// Packs pixel i's ray from p, moved off the surface by `offset` along offset_normal, along d as the
 /// row's k-th ray (nearest_hits), met up to `reach` m.
 void Renderer::Impl::pack_ray(Scratch& s, std::size_t k, std::size_t i, const Vec3& p, const Vec3& offset_normal,
@@ -436,21 +444,14 @@ void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
   float* const* a = s.a;
   const auto hit_point = [&](std::size_t i) { return Vec3{a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]}; };
   // From above the refracted ray (none under total reflection), from below the reflected one.
-  const auto direction = [&](std::size_t i) {
-    return a[Scratch::side][i] > 0.0f ? Vec3{a[Scratch::tx][i], a[Scratch::ty][i], a[Scratch::tz][i]}
-                                      : Vec3{a[Scratch::rx][i], a[Scratch::ry][i], a[Scratch::rz][i]};
-  };
+  const std::size_t rays = detail::pack_rays(
+      {a[Scratch::side], a[Scratch::kr], a[Scratch::t], a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::nx],
+       a[Scratch::ny], a[Scratch::nz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz], a[Scratch::rx], a[Scratch::ry],
+       a[Scratch::rz]},
+      width, {true, std::min(underwater_reach, max_distance)}, packed_rays(s));
   // s.under is read at sea hits only: those without a ray meet nothing, nearest_hits sets the others.
-  std::size_t rays = 0;
   for (std::size_t i = 0; i < width; ++i) {
-    const float side = a[Scratch::side][i];
-    if (side == 0.0f) continue;
-    if (side > 0.0f && !(a[Scratch::kr][i] < 1.0f)) {
-      s.under[i] = SurfaceHit{};
-      continue;
-    }
-    pack_ray(s, rays++, i, hit_point(i), {-a[Scratch::nx][i], -a[Scratch::ny][i], -a[Scratch::nz][i]},
-             1e-3f + 1e-4f * a[Scratch::t][i], direction(i), std::min(underwater_reach, max_distance));
+    if (a[Scratch::side][i] > 0.0f && !(a[Scratch::kr][i] < 1.0f)) s.under[i] = SurfaceHit{};
   }
   nearest_hits(s, rays, s.under.data());
   // The floor hits, for the sand: those of the rays just packed, and those of the primary rays that
@@ -484,16 +485,16 @@ void Renderer::Impl::find_air_hits(Scratch& s) const noexcept {
   float* const* a = s.a;
   // s.air is read at sea hits only: those without a ray meet nothing, nearest_hits sets the others.
   std::size_t rays = 0;
+  if (quality.reflect_objects) {
+    // From above the reflected ray, from below the refracted one (none under total reflection).
+    rays = detail::pack_rays({a[Scratch::side], a[Scratch::kr], a[Scratch::t], a[Scratch::hx], a[Scratch::hy],
+                              a[Scratch::hz], a[Scratch::nx], a[Scratch::ny], a[Scratch::nz], a[Scratch::ax],
+                              a[Scratch::ay], a[Scratch::az], a[Scratch::ax], a[Scratch::ay], a[Scratch::az]},
+                             width, {false, max_distance}, packed_rays(s));
+  }
   for (std::size_t i = 0; i < width; ++i) {
     const float side = a[Scratch::side][i];
-    if (side == 0.0f) continue;
-    if (!quality.reflect_objects || (side < 0.0f && !(a[Scratch::kr][i] < 1.0f))) {
-      s.air[i] = SurfaceHit{};
-      continue;
-    }
-    pack_ray(s, rays++, i, {a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]},
-             {a[Scratch::nx][i], a[Scratch::ny][i], a[Scratch::nz][i]}, 1e-3f + 1e-4f * a[Scratch::t][i],
-             {a[Scratch::ax][i], a[Scratch::ay][i], a[Scratch::az][i]}, max_distance);
+    if (side != 0.0f && (!quality.reflect_objects || (side < 0.0f && !(a[Scratch::kr][i] < 1.0f)))) s.air[i] = SurfaceHit{};
   }
   nearest_hits(s, rays, s.air.data());
   // What they meet lit, for sea_light (the sky it looks up itself).
