@@ -255,7 +255,7 @@ struct Renderer::Impl {
                        const Vec3& d, float reach) noexcept;
   void nearest_hits(Scratch& s, std::size_t rays, SurfaceHit* hits) const noexcept;
   void primary_hits(Scratch& s, std::size_t memo_row) noexcept;
-  void find_water_hits(Scratch& s) const noexcept;
+  void find_water_hits(Scratch& s, bool meets_sea) const noexcept;
   void find_air_hits(Scratch& s) const noexcept;
   void light_under_water(Scratch& s) const noexcept;
   bool sunlit(const Vec3& p, const Vec3& offset_normal, float offset) const noexcept;
@@ -439,21 +439,23 @@ void Renderer::Impl::nearest_hits(Scratch& s, std::size_t rays, SurfaceHit* hits
 
 /// For each pixel of the row, what its ray into the water meets (a sea hit's refracted ray, or its
 /// reflected one from below) in s.under, and where a pixel's ray meets the floor (that one, or the
-/// primary ray's; the footprint there in m) for the sand.
-void Renderer::Impl::find_water_hits(Scratch& s) const noexcept {
+/// primary ray's; the footprint there in m) for the sand. `meets_sea`: some pixel's ray met the sea.
+void Renderer::Impl::find_water_hits(Scratch& s, bool meets_sea) const noexcept {
   float* const* a = s.a;
   const auto hit_point = [&](std::size_t i) { return Vec3{a[Scratch::hx][i], a[Scratch::hy][i], a[Scratch::hz][i]}; };
-  // From above the refracted ray (none under total reflection), from below the reflected one.
-  const std::size_t rays = detail::pack_rays(
-      {a[Scratch::side], a[Scratch::kr], a[Scratch::t], a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::nx],
-       a[Scratch::ny], a[Scratch::nz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz], a[Scratch::rx], a[Scratch::ry],
-       a[Scratch::rz]},
-      width, {true, std::min(underwater_reach, max_distance)}, packed_rays(s));
-  // s.under is read at sea hits only: those without a ray meet nothing, nearest_hits sets the others.
-  for (std::size_t i = 0; i < width; ++i) {
-    if (a[Scratch::side][i] > 0.0f && !(a[Scratch::kr][i] < 1.0f)) s.under[i] = SurfaceHit{};
+  std::size_t rays = 0;
+  if (meets_sea) {
+    // From above the refracted ray (none under total reflection), from below the reflected one.
+    rays = detail::pack_rays({a[Scratch::side], a[Scratch::kr], a[Scratch::t], a[Scratch::hx], a[Scratch::hy],
+                              a[Scratch::hz], a[Scratch::nx], a[Scratch::ny], a[Scratch::nz], a[Scratch::tx],
+                              a[Scratch::ty], a[Scratch::tz], a[Scratch::rx], a[Scratch::ry], a[Scratch::rz]},
+                             width, {true, std::min(underwater_reach, max_distance)}, packed_rays(s));
+    // s.under is read at sea hits only: those without a ray meet nothing, nearest_hits sets the others.
+    for (std::size_t i = 0; i < width; ++i) {
+      if (a[Scratch::side][i] > 0.0f && !(a[Scratch::kr][i] < 1.0f)) s.under[i] = SurfaceHit{};
+    }
+    nearest_hits(s, rays, s.under.data());
   }
-  nearest_hits(s, rays, s.under.data());
   // The floor hits, for the sand: those of the rays just packed, and those of the primary rays that
   // met no sea.
   std::fill_n(a[Scratch::on_sand], width, 0.0f);
@@ -588,23 +590,35 @@ void Renderer::Impl::shade_sample(Scratch& s, float* rgb, bool first) noexcept {
   // Eq. 8 normals, bent towards the viewer's side where a steep facet would face away from the ray
   // (docs/rendering.md 3.3 (a)), the exact Fresnel split, the rays into air kept above the horizon
   // (3.3 (b)) and the sky along them, the foam, for the whole row in SIMD batches; then each pixel's
-  // own rays.
+  // own rays. A row that meets no sea (above the horizon) needs none of the sea's: only the sky along
+  // its own rays and the sand where they meet the floor (the sea's arrays are read at sea hits only).
+  bool meets_sea = false;
   for (std::size_t i = 0; i < w; ++i) {
     const MarchStatus st = s.status[i];
-    a[Scratch::side][i] = st == MarchStatus::hit ? 1.0f : st == MarchStatus::hit_from_below ? -1.0f : 0.0f;
+    const float side = st == MarchStatus::hit ? 1.0f : st == MarchStatus::hit_from_below ? -1.0f : 0.0f;
+    a[Scratch::side][i] = side;
+    meets_sea |= side != 0.0f;
   }
-  sea_normals({a[Scratch::side], a[Scratch::gx], a[Scratch::gy], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]}, w,
-              {a[Scratch::nx], a[Scratch::ny], a[Scratch::nz]});
-  const ReflectRefractInput in{a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::nx], a[Scratch::ny], a[Scratch::nz]};
-  reflect_refract(in, w, 1.0f, water_refractive_index,
-                  {a[Scratch::rx], a[Scratch::ry], a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz],
-                   a[Scratch::kr]});
-  if (view == RenderView::shaded) {
-    air_directions({a[Scratch::side], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::rx], a[Scratch::ry],
-                    a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz]},
-                   w, min_reflected_dz, {a[Scratch::ax], a[Scratch::ay], a[Scratch::az]});
-    sky.lookup(a[Scratch::ax], a[Scratch::ay], a[Scratch::az], w, a[Scratch::sky_r], a[Scratch::sky_g], a[Scratch::sky_b]);
-    if (surf.nx != 0) {
+  if (meets_sea) {
+    sea_normals({a[Scratch::side], a[Scratch::gx], a[Scratch::gy], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]}, w,
+                {a[Scratch::nx], a[Scratch::ny], a[Scratch::nz]});
+    const ReflectRefractInput in{a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::nx], a[Scratch::ny], a[Scratch::nz]};
+    reflect_refract(in, w, 1.0f, water_refractive_index,
+                    {a[Scratch::rx], a[Scratch::ry], a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz],
+                     a[Scratch::kr]});
+  }
+  const bool shaded = view == RenderView::shaded;
+  if (shaded) {
+    // Off the sea the ray into the air is the pixel's own (air_directions passes it through).
+    const float *ax = a[Scratch::dx], *ay = a[Scratch::dy], *az = a[Scratch::dz];
+    if (meets_sea) {
+      air_directions({a[Scratch::side], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz], a[Scratch::rx], a[Scratch::ry],
+                      a[Scratch::rz], a[Scratch::tx], a[Scratch::ty], a[Scratch::tz]},
+                     w, min_reflected_dz, {a[Scratch::ax], a[Scratch::ay], a[Scratch::az]});
+      ax = a[Scratch::ax], ay = a[Scratch::ay], az = a[Scratch::az];
+    }
+    sky.lookup(ax, ay, az, w, a[Scratch::sky_r], a[Scratch::sky_g], a[Scratch::sky_b]);
+    if (meets_sea && surf.nx != 0) {
       detail::foam_cover(surf.view(),
                          {a[Scratch::side], a[Scratch::hx], a[Scratch::hy], a[Scratch::hz], a[Scratch::gx], a[Scratch::gy],
                           a[Scratch::t]},
@@ -612,14 +626,13 @@ void Renderer::Impl::shade_sample(Scratch& s, float* rgb, bool first) noexcept {
     }
     // The sand where the rays into the water (or primary rays) meet the floor is coloured a packet at a
     // time.
-    find_water_hits(s);
-    find_air_hits(s);
+    find_water_hits(s, meets_sea);
+    if (meets_sea) find_air_hits(s);
     detail::sand_albedo(sand, {a[Scratch::on_sand], a[Scratch::qx], a[Scratch::qy], a[Scratch::qz], a[Scratch::footprint]},
                         w, {a[Scratch::sand_r], a[Scratch::sand_g], a[Scratch::sand_b]});
-    light_under_water(s);
+    if (meets_sea) light_under_water(s);
   }
-  const bool shaded = view == RenderView::shaded;
-  if (shaded) {
+  if (shaded && meets_sea) {
     const detail::SeaLightInput light{a[Scratch::side], a[Scratch::kr], a[Scratch::sky_r], a[Scratch::sky_g],
                                       a[Scratch::sky_b], a[Scratch::air_hit], a[Scratch::reflected_r],
                                       a[Scratch::reflected_g], a[Scratch::reflected_b], a[Scratch::under_r],
