@@ -604,8 +604,7 @@ void SurfaceFrame::morph_row(std::uint32_t l, std::uint32_t j) noexcept {
   const bool last = l + 1 == config_.levels;
   const float band_end = s.reach - s.cell, band_start = band_end - config_.blend_fraction * s.reach;
   const float inv_band = 1.0f / (band_end - band_start);
-  const std::uint32_t nodes = config_.cells + 1, tc = config_.tile_cells, tc_log2 = std::uint32_t(std::countr_zero(tc));
-  const std::uint8_t* need = needed_ + std::size_t(l) * tiles_ * tiles_;
+  const std::uint32_t nodes = config_.cells + 1;
   // Node (i, j) lies at the partner's (px + i/2, py + j/2); px, py integers (origins on the tile lattice).
   std::int64_t px = 0, py = 0;
   if (!last) {
@@ -618,31 +617,20 @@ void SurfaceFrame::morph_row(std::uint32_t l, std::uint32_t j) noexcept {
                               last ? nullptr : grad_y(l + 1), last ? nullptr : slope_variance(l + 1)};
   const float far_values[4] = {config_.far_height, 0.0f, 0.0f, 0.0f};
   const float dy = std::fabs(s.origin_y + float(j) * s.cell - centre_y_);
-  std::uint32_t upper, lower;
-  row_tiles(j, tc, tiles_, upper, lower);
   // On a row inside the band's inner edge, the nodes more than a cell inside it in x keep their
   // values (the test below would pass them over one by one): [inner_lo, inner_hi) is skipped.
-  std::uint32_t inner_lo = nodes, inner_hi = nodes;
+  std::size_t inner_lo = nodes, inner_hi = nodes;
   if (!(dy > band_start)) {
     const double a = std::ceil((double(centre_x_) - band_start - s.origin_x) / s.cell) + 1.0;
     const double b = std::floor((double(centre_x_) + band_start - s.origin_x) / s.cell) - 1.0;
     if (a <= b && a < nodes && b >= 0.0) {
-      inner_lo = std::uint32_t(std::max(a, 0.0));
-      inner_hi = std::uint32_t(std::min(b + 1.0, double(nodes)));
+      inner_lo = std::size_t(std::max(a, 0.0));
+      inner_hi = std::size_t(std::min(b + 1.0, double(nodes)));
     }
   }
-  for (std::uint32_t i = 0; i < nodes; ++i) {
-    if (i == inner_lo) i = inner_hi;
-    if (i == nodes) break;
+  const auto morph_node = [&](std::size_t i) {
     const float r = std::max(std::fabs(s.origin_x + float(i) * s.cell - centre_x_), dy);
-    if (!(r > band_start)) continue;
-    // Filled nodes only (a node belongs to up to four tiles).
-    const std::uint32_t tile = i >> tc_log2;  // a shift, not a division: this test runs per node
-    const std::uint32_t ti = std::min(tile, tiles_ - 1), tl = (i & (tc - 1)) == 0 && i > 0 ? tile - 1 : ti;
-    if (!(need[upper * tiles_ + ti] || need[upper * tiles_ + tl] || need[lower * tiles_ + ti] ||
-          need[lower * tiles_ + tl])) {
-      continue;
-    }
+    if (!(r > band_start)) return;
     float x = (r - band_start) * inv_band;
     x = x < 1.0f ? x : 1.0f;
     const float w = x * x * (3.0f - 2.0f * x);
@@ -663,7 +651,13 @@ void SurfaceFrame::morph_row(std::uint32_t l, std::uint32_t j) noexcept {
       }
       fields[f][k] = fields[f][k] + w * (p - fields[f][k]);
     }
-  }
+  };
+  // Filled nodes only: the runs of needed tiles, less the inner range.
+  for_each_run(l, j, [&](std::size_t i0, std::size_t count) {
+    const std::size_t end = i0 + count;
+    for (std::size_t i = i0; i < std::min(end, inner_lo); ++i) morph_node(i);
+    for (std::size_t i = std::max(i0, inner_hi); i < end; ++i) morph_node(i);
+  });
 }
 
 void SurfaceFrame::pair_row(std::uint32_t l, std::uint32_t j) noexcept {
