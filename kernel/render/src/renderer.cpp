@@ -730,8 +730,17 @@ void Renderer::Impl::primary_hits(Scratch& s, std::size_t memo_row) noexcept {
     s.counters.reused += width;
     return;
   }
+  // A ray that goes up from above every box, sphere (wherever a moving one may be) and the floor's
+  // highest sample meets nothing: a camera above the scene sends its sky pixels through no packet.
+  const bool above_all = double(o[2]) > std::max(double(casters_top), objects.floor_z_max());
   for (std::size_t i = 0; i < width; ++i) {
     const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
+    if (above_all && d[2] > 0.0f) {
+      s.object[i] = SurfaceHit{};
+      a[Scratch::t_max][i] = max_distance;
+      if (kept) kept_t_max[i] = max_distance, kept_movers[i] = 0;
+      continue;
+    }
     // Past the cut a ray from above has crossed the sea: its floor and objects there are not seen.
     const float reach =
         d[2] < 0.0f ? std::min(max_distance, float((primary_floor_lo - double(o[2])) / double(d[2]))) : max_distance;
