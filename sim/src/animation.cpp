@@ -40,7 +40,6 @@ Quality quality_preset(QualityPreset q) noexcept {
   Quality r;
   switch (q) {
     case QualityPreset::draft:
-      r.render.march.step_fraction = 0.5f;
       r.render.march.refine_iterations = 0;
       r.render.shadows = false;
       r.surface.levels = 7;

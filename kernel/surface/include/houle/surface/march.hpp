@@ -34,7 +34,7 @@ namespace houle {
 
 /// Accuracy knobs (docs/design.md 5: explicit). Defaults are the `realtime` point.
 struct MarchQuality {
-  float step_fraction = 0.25f;  ///< delta = step_fraction x cone width (pixel footprint across the ray), > 0
+  float step_fraction = 0.5f;   ///< delta = step_fraction x cone width (pixel footprint across the ray), > 0
   float min_step = 1e-3f;       ///< m, floor of delta near the ray origin, > 0
   int refine_iterations = 1;    ///< Illinois iterations on the final bracket, >= 0
   int max_steps = 1024;         ///< march samples per ray before it gives up (status exhausted), >= 1
