@@ -223,6 +223,17 @@ TEST(Renderer, StillCameraReusesPrimaryHitsAndChangesNoByte) {
     const std::uint64_t samples = b.sea + b.object + b.sky;
     const bool moved = frame == 0 || frame == 6 || frame == 7;  // the first frame, the camera away and back
     EXPECT_EQ(b.reused, moved ? 0u : samples) << "t " << t;
+    // The colours off the sea are written in the camera's second still frame and read from its third:
+    // in the repeat of the second frame every sample that is not sea (the sky, the beach) takes its
+    // kept colour; later, all but those the waves have just left, which are shaded and kept then.
+    if (frame == 2) {
+      EXPECT_EQ(b.kept_colour, b.object + b.sky);
+    } else if (frame >= 3 && frame <= 5) {
+      EXPECT_GT(b.kept_colour, (b.object + b.sky) * 9 / 10) << "t " << t;
+      EXPECT_LE(b.kept_colour, b.object + b.sky) << "t " << t;
+    } else {
+      EXPECT_EQ(b.kept_colour, 0u) << "t " << t;
+    }
     // Unbounded or exceeded, only the repeated frame has the cut of the frame before.
     EXPECT_EQ(kept_unbounded.last_counters().reused, frame == 2 ? samples : 0u) << "t " << t;
     EXPECT_EQ(kept_exceeded.last_counters().reused, frame == 2 ? samples : 0u) << "t " << t;

@@ -51,10 +51,12 @@ constexpr float sky_water_transmission = 0.934f;
 // would otherwise be blown up without limit.
 constexpr double min_reference_klx = 10.0;
 // Per pixel and sample, up to Renderer::max_kept_bytes: what the primary ray met, the marcher's t_max
-// from it, and whether it met a moving object's bounds (primary_hits). A 1920 x 1080 image keeps 57
-// MiB at one sample and 229 MiB at four; at 8 samples (film) it would be 457 MiB, which a film render
-// does without.
-static_assert(sizeof(SurfaceHit) + sizeof(float) + sizeof(std::uint8_t) == Renderer::kept_hit_bytes);
+// from it, its flags (kept_meets_movers, kept_colour) and, off the sea, its colour (primary_hits,
+// shade_sample). A 1920 x 1080 image keeps 81 MiB at one sample and 162 MiB at two; at 4 samples it
+// would be 324 MiB and at 8 (film) 648 MiB, which such renders do without.
+static_assert(sizeof(SurfaceHit) + sizeof(float) + sizeof(std::uint8_t) + 3 * sizeof(float) == Renderer::kept_hit_bytes);
+constexpr std::uint8_t kept_meets_movers = 1;  // the primary ray meets a moving object's bounds
+constexpr std::uint8_t kept_colour = 2;        // the colour off the sea is kept
 
 LinearRgb operator*(LinearRgb a, float s) { return {a.r * s, a.g * s, a.b * s}; }
 LinearRgb operator*(LinearRgb a, LinearRgb b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
@@ -145,6 +147,10 @@ struct alignas(64) Scratch {
   std::vector<float> accumulated;  // 3 per pixel: the samples' sum, with more than one
   std::vector<MarchStatus> status;
   SurfaceHit* object = nullptr;  // the row's primary hits: own_object, or the memo's row
+  // The memo's row of colours off the sea and its flags, while they may be read and written (render()'s
+  // keep_colours, a still camera): null otherwise.
+  float* kept_rgb = nullptr;
+  std::uint8_t* kept_flags = nullptr;
   std::vector<SurfaceHit> own_object;
   std::vector<SurfaceHit> under;  // what the ray into the water from a sea hit meets (shade_sample)
   std::vector<SurfaceHit> air;    // what the ray into the air from a sea hit meets (with reflect_objects)
@@ -202,15 +208,20 @@ struct Renderer::Impl {
   std::unique_ptr<detail::ThreadPool> pool;
   std::vector<std::unique_ptr<Scratch>> scratch;
   // The primary rays' object and floor hits, row by row (row r, sample k: entries (r samples + k) width
-  // onwards), the marcher's t_max from each and whether it met a mover's bounds, and the camera and cut
-  // they were found for: a still camera finds them there the next frame. Apart, so that a kept sea pixel
-  // reads 5 bytes, not its hit (which only the shading of what is not sea reads).
+  // onwards), the marcher's t_max from each, its flags and the colour of a pixel off the sea, and the
+  // camera and cut they were found for: a still camera finds them there the next frame. Apart, so that
+  // a kept sea pixel reads 5 bytes, not its hit (which only the shading of what is not sea reads).
   std::vector<SurfaceHit> memo_hits;
   std::vector<float> memo_t_max;
-  std::vector<std::uint8_t> memo_movers;
+  std::vector<std::uint8_t> memo_flags;
+  std::vector<float> memo_rgb;  // 3 per entry, valid where the flags say kept_colour
   Camera memo_camera;
   double memo_cut = std::numeric_limits<double>::quiet_NaN();  // NaN: none kept yet
   bool memo_refill = true;  // this frame: the camera or the cut moved
+  // This frame keeps the colours off the sea: nothing but the camera and the cut changes them (no
+  // movers, a camera above the sea, the shaded view). Written once the camera has held still for a
+  // frame, so that a moving one writes none.
+  bool keep_colours = false;
   FrameTimes times;
   RenderCounters counters;
 
@@ -233,6 +244,9 @@ struct Renderer::Impl {
   void shade_sample(Scratch& s, float* rgb, bool first) noexcept;
   void add_aovs(const Scratch& s, std::uint32_t row, int sample) const noexcept;
   LinearRgb shade_primary(const Scratch& s, std::size_t i, RenderCounters& c) const noexcept;
+  static bool colour_kept(const Scratch& s, std::size_t i) noexcept;
+  static LinearRgb kept_primary(Scratch& s, std::size_t i) noexcept;
+  static void add_sample(Scratch& s, float* rgb, std::size_t i, LinearRgb c, bool first) noexcept;
   /// The sky's radiance along pixel i's direction in air (shade_sample's air_directions).
   LinearRgb sky_radiance(const Scratch& s, std::size_t i) const noexcept {
     return LinearRgb{s.a[Scratch::sky_r][i], s.a[Scratch::sky_g][i], s.a[Scratch::sky_b][i]} * sky_scale;
@@ -475,7 +489,7 @@ void Renderer::Impl::find_water_hits(Scratch& s, bool meets_sea) const noexcept 
   }
   for (std::size_t i = 0; i < width; ++i) {
     const SurfaceHit& h = s.object[i];
-    if (a[Scratch::side][i] != 0.0f || h.kind != HitKind::floor) continue;
+    if (a[Scratch::side][i] != 0.0f || h.kind != HitKind::floor || colour_kept(s, i)) continue;
     on_sand(i, along(camera.position, {a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]}, h.t), h.t);
   }
 }
@@ -591,13 +605,19 @@ void Renderer::Impl::shade_sample(Scratch& s, float* rgb, bool first) noexcept {
   // (docs/rendering.md 3.3 (a)), the exact Fresnel split, the rays into air kept above the horizon
   // (3.3 (b)) and the sky along them, the foam, for the whole row in SIMD batches; then each pixel's
   // own rays. A row that meets no sea (above the horizon) needs none of the sea's: only the sky along
-  // its own rays and the sand where they meet the floor (the sea's arrays are read at sea hits only).
-  bool meets_sea = false;
+  // its own rays and the sand where they meet the floor (the sea's arrays are read at sea hits only),
+  // and nothing at all where the still camera's colours off the sea are kept (docs/rendering.md 2.4).
+  bool meets_sea = false, all_kept = s.kept_flags != nullptr;
   for (std::size_t i = 0; i < w; ++i) {
     const MarchStatus st = s.status[i];
     const float side = st == MarchStatus::hit ? 1.0f : st == MarchStatus::hit_from_below ? -1.0f : 0.0f;
     a[Scratch::side][i] = side;
     meets_sea |= side != 0.0f;
+    all_kept &= side != 0.0f || colour_kept(s, i);
+  }
+  if (!meets_sea && all_kept) {
+    for (std::size_t i = 0; i < w; ++i) add_sample(s, rgb, i, kept_primary(s, i), first);
+    return;
   }
   if (meets_sea) {
     sea_normals({a[Scratch::side], a[Scratch::gx], a[Scratch::gy], a[Scratch::dx], a[Scratch::dy], a[Scratch::dz]}, w,
@@ -658,18 +678,44 @@ void Renderer::Impl::shade_sample(Scratch& s, float* rgb, bool first) noexcept {
     if (shaded && a[Scratch::side][i] > 0.0f) {  // sea_light's
       ++s.counters.sea;
       c = {a[Scratch::light_r][i], a[Scratch::light_g][i], a[Scratch::light_b][i]};
+    } else if (colour_kept(s, i)) {
+      c = kept_primary(s, i);
     } else {
       c = shade_primary(s, i, s.counters);
+      if (s.kept_flags != nullptr && a[Scratch::side][i] == 0.0f) {
+        float* kept = s.kept_rgb + 3 * i;
+        kept[0] = c.r, kept[1] = c.g, kept[2] = c.b;
+        s.kept_flags[i] |= kept_colour;
+      }
     }
-    if (!finite(c)) {
-      ++s.counters.nonfinite;
-      c = {};
-    }
-    float* p = rgb + 3 * i;
-    p[0] = (first ? 0.0f : p[0]) + c.r;  // the first sample as a sum from 0 gives it: 0 + c, +0 for -0
-    p[1] = (first ? 0.0f : p[1]) + c.g;
-    p[2] = (first ? 0.0f : p[2]) + c.b;
+    add_sample(s, rgb, i, c, first);
   }
+}
+
+/// Whether pixel i's colour off the sea is kept from an earlier frame of the still camera.
+bool Renderer::Impl::colour_kept(const Scratch& s, std::size_t i) noexcept {
+  return s.kept_flags != nullptr && (s.kept_flags[i] & kept_colour) != 0;
+}
+
+/// Pixel i's kept colour off the sea, counted as shade_primary counts it.
+LinearRgb Renderer::Impl::kept_primary(Scratch& s, std::size_t i) noexcept {
+  ++(s.object[i].kind == HitKind::none ? s.counters.sky : s.counters.object);
+  ++s.counters.kept_colour;
+  const float* kept = s.kept_rgb + 3 * i;
+  return {kept[0], kept[1], kept[2]};
+}
+
+/// Adds pixel i's sample c to rgb (sets it for the first sample); a sample that is not finite adds 0,
+/// and is counted.
+void Renderer::Impl::add_sample(Scratch& s, float* rgb, std::size_t i, LinearRgb c, bool first) noexcept {
+  if (!finite(c)) {
+    ++s.counters.nonfinite;
+    c = {};
+  }
+  float* p = rgb + 3 * i;
+  p[0] = (first ? 0.0f : p[0]) + c.r;  // the first sample as a sum from 0 gives it: 0 + c, +0 for -0
+  p[1] = (first ? 0.0f : p[1]) + c.g;
+  p[2] = (first ? 0.0f : p[2]) + c.b;
 }
 
 /// The AOVs of one sample of a row's pixels, from what the march and shade_sample left in the scratch
@@ -722,7 +768,9 @@ void Renderer::Impl::primary_hits(Scratch& s, std::size_t memo_row) noexcept {
   const bool kept = !memo_hits.empty();
   s.object = kept ? memo_hits.data() + memo_row : s.own_object.data();
   float* const kept_t_max = kept ? memo_t_max.data() + memo_row : nullptr;
-  std::uint8_t* const kept_movers = kept ? memo_movers.data() + memo_row : nullptr;
+  std::uint8_t* const kept_flags = kept ? memo_flags.data() + memo_row : nullptr;
+  s.kept_rgb = keep_colours && !memo_refill ? memo_rgb.data() + 3 * memo_row : nullptr;
+  s.kept_flags = keep_colours && !memo_refill ? kept_flags : nullptr;
   std::size_t rays = 0;
   // A still camera without movers keeps every hit: the row's t_max is the memo's.
   if (kept && !memo_refill && !movers) {
@@ -738,19 +786,19 @@ void Renderer::Impl::primary_hits(Scratch& s, std::size_t memo_row) noexcept {
     if (above_all && d[2] > 0.0f) {
       s.object[i] = SurfaceHit{};
       a[Scratch::t_max][i] = max_distance;
-      if (kept) kept_t_max[i] = max_distance, kept_movers[i] = 0;
+      if (kept) kept_t_max[i] = max_distance, kept_flags[i] = 0;
       continue;
     }
     // Past the cut a ray from above has crossed the sea: its floor and objects there are not seen.
     const float reach =
         d[2] < 0.0f ? std::min(max_distance, float((primary_floor_lo - double(o[2])) / double(d[2]))) : max_distance;
     const bool meets_movers = movers && objects.meets_movers(make_ray(o, d, 0.0f, d), double(reach));
-    if (kept && !memo_refill && !meets_movers && kept_movers[i] == 0) {
+    if (kept && !memo_refill && !meets_movers && (kept_flags[i] & kept_meets_movers) == 0) {
       a[Scratch::t_max][i] = kept_t_max[i];
       ++s.counters.reused;
       continue;
     }
-    if (kept) kept_movers[i] = meets_movers ? 1 : 0;
+    if (kept) kept_flags[i] = meets_movers ? kept_meets_movers : 0;
     pack_ray(s, rays++, i, o, {0.0f, 0.0f, 0.0f}, 0.0f, d, reach);
   }
   nearest_hits(s, rays, s.object);
@@ -916,7 +964,8 @@ Expected<Renderer> Renderer::create(const RenderScene& scene, std::uint32_t widt
   if (memo_entries <= max_kept_bytes / kept_hit_bytes) {
     r.memo_hits.resize(memo_entries);
     r.memo_t_max.resize(memo_entries);
-    r.memo_movers.resize(memo_entries);
+    r.memo_flags.resize(memo_entries);
+    r.memo_rgb.resize(3 * memo_entries);
   }
   return Renderer(std::move(impl));
 }
@@ -1010,6 +1059,7 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
   r.memo_refill = std::memcmp(&r.memo_camera, &camera, sizeof(Camera)) != 0 || !(r.primary_floor_lo == r.memo_cut);
   r.memo_camera = camera;
   r.memo_cut = r.primary_floor_lo;
+  r.keep_colours = !r.memo_rgb.empty() && !r.objects.has_movers() && !r.camera_under && view == RenderView::shaded;
   for (auto& s : r.scratch) {
     s->march_ns = s->intersect_ns = s->shade_ns = 0;
     s->counters = {};
@@ -1031,6 +1081,7 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
     r.counters.sky += s->counters.sky;
     r.counters.nonfinite += s->counters.nonfinite;
     r.counters.reused += s->counters.reused;
+    r.counters.kept_colour += s->counters.kept_colour;
   }
   const double n = double(r.scratch.size()) * 1e6;
   r.times.march_ms = march_ns / n;

@@ -29,9 +29,9 @@
 // (docs/rendering.md 3.4's refinement) and is shadowed by objects only, not by the waves; sky light on
 // objects is the horizontal sky irradiance weighted by (1 + N_z) / 2.
 //
-// Per shot: the primary rays' object and floor hits are kept per pixel and sample from one frame to
-// the next while the camera does not change, and used where they are the frame's own bits
-// (docs/rendering.md 2.4).
+// Per shot: the primary rays' object and floor hits, and the colour of what they meet off the sea
+// (without moving objects), are kept per pixel and sample from one frame to the next while the camera
+// does not change, and used where they are the frame's own bits (docs/rendering.md 2.4).
 //
 // Threads: a persistent pool made by create() (no thread is started per frame); rows are claimed one
 // at a time by whichever thread is free, and every row is computed the same way whatever thread takes
@@ -147,6 +147,7 @@ struct RenderCounters {
   std::uint64_t sky = 0;        ///< primary ray met nothing (the sky, or I_sea under water)
   std::uint64_t nonfinite = 0;  ///< samples whose colour was NaN or Inf (written as 0): should stay 0
   std::uint64_t reused = 0;     ///< samples whose object and floor hit the last frame's camera had found
+  std::uint64_t kept_colour = 0;  ///< samples off the sea whose colour an earlier frame of the still camera had shaded
 };
 
 /// What render() writes: the image, or a debugging view.
@@ -157,9 +158,9 @@ enum class RenderView : std::uint8_t {
 
 class Renderer {
  public:
-  /// Bytes of primary hits kept per pixel and sample for a still camera, and the most kept: an image
-  /// x samples over it keeps none and intersects every frame.
-  static constexpr std::size_t kept_hit_bytes = 29, max_kept_bytes = std::size_t(256) << 20;
+  /// Bytes of primary hits and colours kept per pixel and sample for a still camera, and the most
+  /// kept: an image x samples over it keeps none and intersects and shades every frame.
+  static constexpr std::size_t kept_hit_bytes = 41, max_kept_bytes = std::size_t(256) << 20;
   /// The reflected sea ray's minimum z after clamping (see the file comment).
   static constexpr float min_reflected_dz = 0.01f;
   /// m: refracted and under-water rays that meet nothing within this see I_sea.
