@@ -21,19 +21,36 @@ struct FloorHit {
   simd::vmask<A> left;
 };
 
-/// The floor hit of each lane's ray (floor_hits.hpp); `valid` false lanes get none.
+/// One packet's floor walk in progress (floor_walk_start, floor_walk_step): its rays, the cell each
+/// lane is in and the hits found so far.
 template <class A>
-inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid, simd::vfloat<A> ox, simd::vfloat<A> oy,
-                                   simd::vfloat<A> oz, simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz,
-                                   simd::vfloat<A> t_max) {
+struct FloorWalk {
+  using V = simd::vfloat<A>;
+  FloorHit<A> h;
+  simd::vmask<A> walking;
+  V ox, oy, oz, dx, dy, dz, t_max;
+  // Set where a lane walks. (Not braces: a batch's braces are an initializer list.)
+  V t1 = V(0.0f), fi = V(0.0f), fj = V(0.0f), si = V(0.0f), sj = V(0.0f), step_x = V(0.0f), step_y = V(0.0f),
+    next_x = V(0.0f), next_y = V(0.0f), t = V(0.0f);
+  int steps = 0;
+};
+
+/// Sets up the floor walk of each lane's ray (floor_hits.hpp); `valid` false lanes get no hit. The
+/// walk is done when no lane is walking.
+template <class A>
+inline FloorWalk<A> floor_walk_start(const FloorGridView& f, simd::vmask<A> valid, simd::vfloat<A> ox, simd::vfloat<A> oy,
+                                     simd::vfloat<A> oz, simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz,
+                                     simd::vfloat<A> t_max) {
   using V = simd::vfloat<A>;
   using M = simd::vmask<A>;
-  using I = simd::vint<A>;
   const V zero(0.0f), one(1.0f), inf(std::numeric_limits<float>::infinity());
-  FloorHit<A> h{inf, zero, zero, one, M(valid & !(dz != zero))};
+  FloorWalk<A> w;
+  w.h = {inf, zero, zero, one, M(valid & !(dz != zero))};
+  w.walking = M(false);
+  w.ox = ox, w.oy = oy, w.oz = oz, w.dx = dx, w.dy = dy, w.dz = dz, w.t_max = t_max;
   if (f.nx == 0) {  // no floor, nothing to meet; or one too large for the kernel, left whole
-    h.left = f.too_large ? valid : M(false);
-    return h;
+    w.h.left = f.too_large ? valid : M(false);
+    return w;
   }
   // Where the ray is inside the floor's height range, before t_max.
   const M moving = valid & (dz != zero);
@@ -72,79 +89,110 @@ inline FloorHit<A> floor_hit_lanes(const FloorGridView& f, simd::vmask<A> valid,
   constexpr float cell_limit = 4.0e6f;
   const V acx = simd::abs(cx), acy = simd::abs(cy);
   const M near = (acx < V(cell_limit)) & (acy < V(cell_limit)) & (oz == oz) & (dz == dz);
-  h.left = h.left | (moving & !near);
-  M walking = moving & near & (t0 <= t1);
-  if (!simd::any(walking)) return h;
+  w.h.left = w.h.left | (moving & !near);
+  w.walking = moving & near & (t0 <= t1);
+  if (!simd::any(w.walking)) return w;
 
-  V fi = simd::floor_exact(simd::select(walking, cx, zero)), fj = simd::floor_exact(simd::select(walking, cy, zero));
-  const V si = simd::select(dx > zero, one, V(-1.0f)), sj = simd::select(dy > zero, one, V(-1.0f));
+  w.t1 = t1;
+  w.fi = simd::floor_exact(simd::select(w.walking, cx, zero));
+  w.fj = simd::floor_exact(simd::select(w.walking, cy, zero));
+  w.si = simd::select(dx > zero, one, V(-1.0f));
+  w.sj = simd::select(dy > zero, one, V(-1.0f));
   const V cell(f.cell);
-  const V step_x = simd::select(dx == zero, inf, cell * simd::abs(inv_dx));
-  const V step_y = simd::select(dy == zero, inf, cell * simd::abs(inv_dy));
-  V next_x = simd::select(dx > zero, t0 + ((fi + one) * cell - px) * inv_dx,
-                          simd::select(dx < zero, t0 + (fi * cell - px) * inv_dx, inf));
-  V next_y = simd::select(dy > zero, t0 + ((fj + one) * cell - py) * inv_dy,
-                          simd::select(dy < zero, t0 + (fj * cell - py) * inv_dy, inf));
-  V t = t0;
+  w.step_x = simd::select(dx == zero, inf, cell * simd::abs(inv_dx));
+  w.step_y = simd::select(dy == zero, inf, cell * simd::abs(inv_dy));
+  w.next_x = simd::select(dx > zero, t0 + ((w.fi + one) * cell - px) * inv_dx,
+                          simd::select(dx < zero, t0 + (w.fi * cell - px) * inv_dx, inf));
+  w.next_y = simd::select(dy > zero, t0 + ((w.fj + one) * cell - py) * inv_dy,
+                          simd::select(dy < zero, t0 + (w.fj * cell - py) * inv_dy, inf));
+  w.t = t0;
+  return w;
+}
+
+/// One cell of a walking packet: each walking lane tests its cell and moves to the next. A lane
+/// still walking after max_floor_steps cells is left to SceneObjects.
+template <class A>
+inline __attribute__((always_inline)) void floor_walk_step(const FloorGridView& f, FloorWalk<A>& w) {
+  using V = simd::vfloat<A>;
+  using M = simd::vmask<A>;
+  using I = simd::vint<A>;
+  const V zero(0.0f), one(1.0f), inf(std::numeric_limits<float>::infinity());
+  const V ox = w.ox, oy = w.oy, oz = w.oz, dx = w.dx, dy = w.dy, dz = w.dz, fi = w.fi, fj = w.fj;
+  const V cell(f.cell);
   const V i_hi(float(f.nx - 1)), j_hi(float(f.ny - 1));
-  for (int step = 0; step < max_floor_steps; ++step) {
-    const V t_exit = min_as_std(min_as_std(next_x, next_y), t1);
-    const V ta = t, tb = max_as_std(t_exit, t);
-    const V za = oz + ta * dz, zb = oz + tb * dz;
-    // Beyond the grid a cell has the heights of the border cell it clamps to (the view's border).
-    const I ci = simd::to_int_exact(clamp_as_std(fi, V(-1.0f), i_hi) + one);
-    const I cj = simd::to_int_exact(clamp_as_std(fj, V(-1.0f), j_hi) + one);
-    const V top = simd::gather(f.cell_max, cj * I(f.nx + 1) + ci);
-    const M candidate = walking & !(min_as_std(za, zb) > top);
-    if (simd::any(candidate)) {
-      const I k = cj * I(f.nx + 2) + ci;
-      V h00, h10, h01, h11;
-      simd::gather_adjacent(f.z, k, h00, h10);
-      simd::gather_adjacent(f.z, k + I(f.nx + 2), h01, h11);
-      // Along the ray, s = t - ta: the bilinear h = h00 + e u + f v + g u v becomes a + b s + c s^2.
-      const V inv_cell(f.inv_cell);
-      const V u0 = (ox + ta * dx - (V(f.origin_x) + fi * cell)) * inv_cell;
-      const V v0 = (oy + ta * dy - (V(f.origin_y) + fj * cell)) * inv_cell;
-      const V du = dx * inv_cell, dv = dy * inv_cell;
-      const V e = h10 - h00, ef = h01 - h00, g = h00 - h10 - h01 + h11;
-      const V a = h00 + e * u0 + ef * v0 + g * u0 * v0;
-      const V b = e * du + ef * dv + g * (u0 * dv + v0 * du);
-      const V c = g * du * dv;
-      const V a0 = za - a;  // height above the ground on entering
-      const V s_end = tb - ta;
-      // c s^2 + qb s + qc = 0 with qb = b - dz, qc = -a0 (< 0 where it matters); the stable pair of roots.
-      const V qb = b - dz, qc = zero - a0;
-      const V disc = qb * qb - V(4.0f) * c * qc;
-      const V root = simd::sqrt(simd::select(disc >= zero, disc, zero));
-      const V qq = V(-0.5f) * (qb + simd::select(qb < zero, zero - root, root));
-      const V r1 = simd::select(qq != zero, simd::div(qc, simd::select(qq != zero, qq, one)), inf);
-      const V r2 = simd::select(c != zero, simd::div(qq, simd::select(c != zero, c, one)), inf);
-      V s = simd::select((disc >= zero) & (r1 >= zero) & (r1 <= s_end), r1, inf);
-      s = simd::select((disc >= zero) & (r2 >= zero) & (r2 <= s_end) & (r2 < s), r2, s);
-      s = simd::select(a0 <= zero, zero, s);  // at or under the ground on entering
-      const M hit = candidate & (s <= s_end) & (ta + s < t_max);
-      if (simd::any(hit)) {
-        const V u = clamp_as_std(u0 + du * s, zero, one), v = clamp_as_std(v0 + dv * s, zero, one);
-        const V gx = (e + g * v) * inv_cell, gy = (ef + g * u) * inv_cell;
-        const V inv = simd::div(one, simd::sqrt(gx * gx + gy * gy + one));
-        h.t = simd::select(hit, ta + s, h.t);
-        h.nx = simd::select(hit, zero - gx * inv, h.nx);
-        h.ny = simd::select(hit, zero - gy * inv, h.ny);
-        h.nz = simd::select(hit, inv, h.nz);
-        walking = walking & !hit;
-      }
+  const V t_exit = min_as_std(min_as_std(w.next_x, w.next_y), w.t1);
+  const V ta = w.t, tb = max_as_std(t_exit, w.t);
+  const V za = oz + ta * dz, zb = oz + tb * dz;
+  // Beyond the grid a cell has the heights of the border cell it clamps to (the view's border).
+  const I ci = simd::to_int_exact(clamp_as_std(fi, V(-1.0f), i_hi) + one);
+  const I cj = simd::to_int_exact(clamp_as_std(fj, V(-1.0f), j_hi) + one);
+  const V top = simd::gather(f.cell_max, cj * I(f.nx + 1) + ci);
+  const M candidate = w.walking & !(min_as_std(za, zb) > top);
+  if (simd::any(candidate)) {
+    const I k = cj * I(f.nx + 2) + ci;
+    V h00, h10, h01, h11;
+    simd::gather_adjacent(f.z, k, h00, h10);
+    simd::gather_adjacent(f.z, k + I(f.nx + 2), h01, h11);
+    // Along the ray, s = t - ta: the bilinear h = h00 + e u + f v + g u v becomes a + b s + c s^2.
+    const V inv_cell(f.inv_cell);
+    const V u0 = (ox + ta * dx - (V(f.origin_x) + fi * cell)) * inv_cell;
+    const V v0 = (oy + ta * dy - (V(f.origin_y) + fj * cell)) * inv_cell;
+    const V du = dx * inv_cell, dv = dy * inv_cell;
+    const V e = h10 - h00, ef = h01 - h00, g = h00 - h10 - h01 + h11;
+    const V a = h00 + e * u0 + ef * v0 + g * u0 * v0;
+    const V b = e * du + ef * dv + g * (u0 * dv + v0 * du);
+    const V c = g * du * dv;
+    const V a0 = za - a;  // height above the ground on entering
+    const V s_end = tb - ta;
+    // c s^2 + qb s + qc = 0 with qb = b - dz, qc = -a0 (< 0 where it matters); the stable pair of roots.
+    const V qb = b - dz, qc = zero - a0;
+    const V disc = qb * qb - V(4.0f) * c * qc;
+    const V root = simd::sqrt(simd::select(disc >= zero, disc, zero));
+    const V qq = V(-0.5f) * (qb + simd::select(qb < zero, zero - root, root));
+    const V r1 = simd::select(qq != zero, simd::div(qc, simd::select(qq != zero, qq, one)), inf);
+    const V r2 = simd::select(c != zero, simd::div(qq, simd::select(c != zero, c, one)), inf);
+    V s = simd::select((disc >= zero) & (r1 >= zero) & (r1 <= s_end), r1, inf);
+    s = simd::select((disc >= zero) & (r2 >= zero) & (r2 <= s_end) & (r2 < s), r2, s);
+    s = simd::select(a0 <= zero, zero, s);  // at or under the ground on entering
+    const M hit = candidate & (s <= s_end) & (ta + s < w.t_max);
+    if (simd::any(hit)) {
+      const V u = clamp_as_std(u0 + du * s, zero, one), v = clamp_as_std(v0 + dv * s, zero, one);
+      const V gx = (e + g * v) * inv_cell, gy = (ef + g * u) * inv_cell;
+      const V inv = simd::div(one, simd::sqrt(gx * gx + gy * gy + one));
+      w.h.t = simd::select(hit, ta + s, w.h.t);
+      w.h.nx = simd::select(hit, zero - gx * inv, w.h.nx);
+      w.h.ny = simd::select(hit, zero - gy * inv, w.h.ny);
+      w.h.nz = simd::select(hit, inv, w.h.nz);
+      w.walking = w.walking & !hit;
     }
-    walking = walking & !(t_exit >= t1);
-    if (!simd::any(walking)) return h;
-    const M along_x = next_x <= next_y;
-    fi = simd::select(along_x, fi + si, fi);
-    fj = simd::select(along_x, fj, fj + sj);
-    t = simd::select(along_x, next_x, next_y);
-    next_x = simd::select(along_x, next_x + step_x, next_x);
-    next_y = simd::select(along_x, next_y, next_y + step_y);
   }
-  h.left = h.left | walking;  // not done within max_floor_steps cells
-  return h;
+  w.walking = w.walking & !(t_exit >= w.t1);
+  const M along_x = w.next_x <= w.next_y;
+  w.fi = simd::select(along_x, fi + w.si, fi);
+  w.fj = simd::select(along_x, fj, fj + w.sj);
+  w.t = simd::select(along_x, w.next_x, w.next_y);
+  w.next_x = simd::select(along_x, w.next_x + w.step_x, w.next_x);
+  w.next_y = simd::select(along_x, w.next_y, w.next_y + w.step_y);
+  if (++w.steps == max_floor_steps) {
+    w.h.left = w.h.left | w.walking;  // not done within max_floor_steps cells
+    w.walking = M(false);
+  }
+}
+
+/// N packets walked together: a step waits mostly for its gathers, and the other packets' steps fill
+/// that wait (as the marcher's packets, docs/design.md 10). Each packet takes exactly the steps it
+/// takes alone: the same bits.
+template <class A, std::size_t N>
+inline __attribute__((always_inline)) void floor_walks(const FloorGridView& f, FloorWalk<A> (&w)[N]) {
+  for (;;) {
+    bool stepped = false;
+    for (std::size_t k = 0; k < N; ++k) {
+      if (!simd::any(w[k].walking)) continue;
+      floor_walk_step<A>(f, w[k]);
+      stepped = true;
+    }
+    if (!stepped) return;
+  }
 }
 
 /// Whether each lane's ray may meet the box lo..hi with t in [0, t_end]: a slab test against the box
@@ -181,20 +229,23 @@ inline simd::vmask<A> may_meet(const ObjectBounds& b, simd::vfloat<A> ox, simd::
   return meet;
 }
 
-/// floor_hit_lanes of n rays (a ray with t_max > 0, not NaN, is valid), and may_meet of the object
-/// bounds up to the floor's hit.
+/// The floor walk of n rays (a ray with t_max > 0, not NaN, is valid), two packets at a time, and
+/// may_meet of the object bounds up to the floor's hit.
 template <class A>
 void floor_hits_batch(const FloorGridView& f, const ObjectBounds& bounds, const FloorRays& in, std::size_t n,
                       FloorHits out) noexcept {
-  simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
-    using V = simd::vfloat<A>;
-    const V t_max = b.load(in.t_max), ox = b.load(in.ox), oy = b.load(in.oy), oz = b.load(in.oz);
-    const V dx = b.load(in.dx), dy = b.load(in.dy), dz = b.load(in.dz, -1.0f);
-    const auto valid = t_max > V(0.0f);
-    const FloorHit<A> h = floor_hit_lanes<A>(f, valid, ox, oy, oz, dx, dy, dz, t_max);
+  using V = simd::vfloat<A>;
+  const auto start = [&](const auto& b) HOULE_BATCH_BODY {
+    const V t_max = b.load(in.t_max);
+    return floor_walk_start<A>(f, t_max > V(0.0f), b.load(in.ox), b.load(in.oy), b.load(in.oz), b.load(in.dx),
+                               b.load(in.dy), b.load(in.dz, -1.0f), t_max);
+  };
+  const auto store = [&](const auto& b, const FloorWalk<A>& w) HOULE_BATCH_BODY {
+    const FloorHit<A>& h = w.h;
+    const simd::vmask<A> valid = w.t_max > V(0.0f);
     simd::vmask<A> meet(false);
     if (bounds.count > 0 && simd::any(valid)) {
-      const simd::vmask<A> may = may_meet<A>(bounds, ox, oy, oz, dx, dy, dz, min_as_std(h.t, t_max));
+      const simd::vmask<A> may = may_meet<A>(bounds, w.ox, w.oy, w.oz, w.dx, w.dy, w.dz, min_as_std(h.t, w.t_max));
       meet = valid & may;
     }
     b.store(out.objects, simd::select(meet, V(1.0f), V(0.0f)));
@@ -203,7 +254,20 @@ void floor_hits_batch(const FloorGridView& f, const ObjectBounds& bounds, const 
     b.store(out.ny, h.ny);
     b.store(out.nz, h.nz);
     b.store(out.left, simd::select(h.left, V(1.0f), V(0.0f)));
-  });
+  };
+  simd::for_batch_pairs<A>(
+      n,
+      [&](const auto& b0, const auto& b1) HOULE_BATCH_BODY {
+        FloorWalk<A> w[2] = {start(b0), start(b1)};
+        floor_walks<A, 2>(f, w);
+        store(b0, w[0]);
+        store(b1, w[1]);
+      },
+      [&](const auto& b) HOULE_BATCH_BODY {
+        FloorWalk<A> w[1] = {start(b)};
+        floor_walks<A, 1>(f, w);
+        store(b, w[0]);
+      });
 }
 
 }  // namespace houle::detail
