@@ -32,9 +32,9 @@ KNOBS = {
         "reference); what is left in the image is float-level jitter of the hit point that the capillary "
         "normals amplify, which is why the curve does not keep falling past 4 (8 measured slightly worse "
         "than 4 at 320x180 and 640x360 from realtime and at 320x180 from film). `film` therefore uses 4 (it "
-        "used 8). In the image, the error of 1 iteration is already a thousandth of an 8-bit step "
-        "(640x360: RMSE 4.0e-6 against 4.6e-7 at 4, `houle_accuracy --only march.refine_iterations --size "
-        "640x360`) for a sixth less march time: `realtime` uses 1 (it used "
+        "used 8). In the image, the error of 1 iteration is a two-hundredth of an 8-bit step (640x360 at "
+        "realtime's step_fraction 0.5: RMSE 2e-5 against under 5e-6 at 4, `houle_accuracy --only "
+        "march.refine_iterations --size 640x360`) for a sixth less march time: `realtime` uses 1 (it used "
         "4) and `draft` 0.",
     ),
     "render.samples_per_pixel": (
@@ -408,12 +408,17 @@ def main():
 
 PRESET_NOTES = (
     "Checked against the sweeps below (one knob at a time from `realtime`; the presets' values are the red "
-    "squares). Two values have moved. `film`'s refine_iterations, 8 -> 4, was clearly off its front: "
+    "squares). `realtime`'s step_fraction, 0.25 -> 0.5 (draft's), is a point further along its front: the "
+    "knob's own image RMSE goes from 0.00026 to 0.00095 at 320x180 (a quarter of an 8-bit step; 0.0001 -> "
+    "0.0003 at 640x360, `houle_accuracy --only march.step_fraction --size 640x360`) for a fifth less march "
+    "time, and `realtime`'s whole error does not move in its third digit. Two values moved before. "
+    "`film`'s refine_iterations, 8 -> 4, was clearly off its front: "
     "eight iterations cost 4 more surface evaluations per ray than four and were measured no more accurate "
     "(from realtime at 320x180 and 640x360 and from film at 320x180, `houle_accuracy --only "
     "march.refine_iterations [--base film] [--size 640x360]`): the root is at float resolution after 4. "
-    "`realtime`'s, 4 -> 1, was past the knee: in the image one iteration is within a thousandth of an "
-    "8-bit step of four (RMSE 4.0e-6 against 4.6e-7 at 640x360) and saves a sixth of the march. "
+    "`realtime`'s, 4 -> 1, was past the knee: in the image one iteration is within a two-hundredth of an "
+    "8-bit step of four (RMSE 2e-5 against under 5e-6 at 640x360, at step_fraction 0.5) and saves a sixth "
+    "of the march. "
     "Every other preset value is on or next to its knob's front. Two are on the front but buy little and "
     "are kept on purpose: `film`'s 8 samples per pixel against 4 (the curve levels off at the LOD's floor; "
     "8 is the paper's Plate 3 setting) and 8 surface levels against 7 (no change at 320x180, a small one at "
