@@ -395,10 +395,10 @@ void keep_probe_sampler(void* c, const houle::SurfaceSamples& s) noexcept {
   }
 }
 
-// keep_static, level by level: a fill offers the sampler nothing where a level's origin or filled
-// tiles are new, room to write on their second fill and what it wrote, at the same nodes, from the
-// third on, whatever the viewer; another context starts over, a camera walking along reuses the
-// levels it has not left, and a layout that does not fit the memory keeps nothing.
+// keep_static, node by node: a fill offers the sampler nothing at a level's new origin, then room to
+// write where its nodes are new and what it wrote, at the same nodes, from the next fill on, whatever
+// the viewer; another context starts over, a camera walking along or turning round reuses the nodes
+// it has seen, and what does not fit the memory keeps nothing.
 TEST(SurfaceFrame, KeepsTheStaticPartForTheFillsOfOneLayout) {
   SurfaceFrame f = make_frame(small_config());
   f.keep_static(1);
@@ -428,11 +428,16 @@ TEST(SurfaceFrame, KeepsTheStaticPartForTheFillsOfOneLayout) {
   for (int k = 0; k < 3; ++k) modes += fill(cam(5003.0f, 4.0f, 10.0f), a);  // every level moved
   for (int k = 0; k < 3; ++k) modes += fill(cam(5003.0f, 4.0f, 10.0f), b);  // another context
   EXPECT_EQ(modes, "owrrrowrowr");
-  // Turned round at the same point: other tiles.
+  // Turned round at the same point: other tiles are written, those seen before read; turned back,
+  // nearly every run is read (a run's last node leaves what the sampler wrote past it in the next
+  // tile's first 16 nodes, so a run that needs those again writes them again).
   modes.clear();
   for (int k = 0; k < 3; ++k) modes += fill(cam(5003.0f, 4.0f, 10.0f, -20.0f, -30.0f), b);
-  EXPECT_NE(modes[0], 'r');
-  EXPECT_EQ(modes.substr(1), "wr");
+  EXPECT_TRUE(modes[0] == 'w' || modes[0] == '?') << modes;
+  EXPECT_EQ(modes.substr(1), "rr");
+  fill(cam(5003.0f, 4.0f, 10.0f), b);
+  EXPECT_EQ(b.off, 0);
+  EXPECT_GT(b.read, 4 * b.write);
   // Walking 0.5 m a frame: the coarse levels are read while the fine ones move on.
   int reads = 0, runs = 0;
   for (int k = 0; k < 24; ++k) {
@@ -440,12 +445,12 @@ TEST(SurfaceFrame, KeepsTheStaticPartForTheFillsOfOneLayout) {
     reads += b.read;
     runs += b.off + b.write + b.read;
   }
-  EXPECT_GT(reads, runs / 4);  // 38 % here
+  EXPECT_GT(reads, runs / 2);
   EXPECT_LT(reads, runs);
+  std::printf("walking: %d of %d runs read\n", reads, runs);
   // Too many floats per node for a level's share of max_kept_bytes: never written.
   f.keep_static(std::size_t(1) << 20);
-  EXPECT_EQ(SurfaceFrame::kept_bytes_bound(small_config(), std::size_t(1) << 20),
-            small_config().levels * (SurfaceFrame::max_kept_bytes / small_config().levels / 64 * 64));
+  EXPECT_EQ(SurfaceFrame::kept_bytes_bound(small_config(), std::size_t(1) << 20), 0u);
   modes.clear();
   for (int k = 0; k < 3; ++k) modes += fill(cam(3.0f, 4.0f, 10.0f), a);
   EXPECT_EQ(modes, "ooo");

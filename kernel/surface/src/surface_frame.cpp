@@ -421,46 +421,40 @@ namespace {
 std::size_t kept_run_floats(std::size_t count, std::size_t per_node) noexcept { return (count + 15) / 16 * 16 * per_node; }
 }  // namespace
 
-bool SurfaceFrame::same_level_layout(std::uint32_t l) noexcept {
-  const std::size_t flags = std::size_t(tiles_) * tiles_, first = l * flags;
-  KeptLevel& k = keep_levels_[l];
-  const SurfaceLevel& s = levels_[l];
-  const bool same = k.have_layout && k.origin_x == s.origin_x && k.origin_y == s.origin_y &&
-                    std::equal(needed_ + first, needed_ + first + flags, keep_needed_.get() + first);
-  if (!same) {
-    k.origin_x = s.origin_x;
-    k.origin_y = s.origin_y;
-    std::copy(needed_ + first, needed_ + first + flags, keep_needed_.get() + first);
-    k.have_layout = true;
+bool SurfaceFrame::kept_run(std::uint32_t l, std::uint32_t j, std::size_t i0, std::size_t count) noexcept {
+  std::uint8_t* written = keep_written_.get() + (std::size_t(l) * (config_.cells + 1) + j) * keep_row_blocks_;
+  const std::size_t first = i0 / 16, last = (i0 + count - 1) / 16;
+  // Nodes of the last 16 the run needs; the sampler writes whole batches, so in the last 16 it writes
+  // past them what is not the nodes'.
+  const auto needs = [&](std::size_t b) { return b < last ? std::size_t(16) : i0 + count - 16 * last; };
+  bool kept = true;
+  for (std::size_t b = first; b <= last && kept; ++b) kept = written[b] >= needs(b);
+  if (!kept) {
+    for (std::size_t b = first; b <= last; ++b) written[b] = std::uint8_t(needs(b));
   }
-  return same;
+  return kept;
 }
 
 void SurfaceFrame::begin_fill(SurfaceSampler sampler, void* context) noexcept {
   morphed_ = bounded_ = false;
-  for (KeptLevel& k : keep_levels_) k.mode = Keep::off;
   if (keep_per_node_ == 0) return;
   if (sampler != keep_sampler_ || context != keep_context_) {  // another sea: nothing kept is its
-    for (KeptLevel& k : keep_levels_) k = {};
+    for (KeptLevel& k : keep_levels_) k.current = false;
     keep_sampler_ = sampler;
     keep_context_ = context;
   }
+  const std::size_t level_flags = std::size_t(config_.cells + 1) * keep_row_blocks_;
   for (std::uint32_t l = 0; l < config_.levels; ++l) {
     KeptLevel& k = keep_levels_[l];
-    if (!same_level_layout(l)) {
-      k.state = Kept::nothing;
+    const SurfaceLevel& s = levels_[l];
+    if (k.current && k.origin_x == s.origin_x && k.origin_y == s.origin_y) {
+      k.fresh = false;
       continue;
     }
-    if (k.state == Kept::written) k.mode = Keep::read;
-    if (k.state != Kept::nothing) continue;
-    // The layout's second fill: the level's runs get their places, and are written if they all fit.
-    std::size_t at = 0;
-    for (std::uint32_t j = 0; j <= config_.cells; ++j) {
-      keep_rows_[std::size_t(l) * (config_.cells + 1) + j] = at;
-      for_each_run(l, j, [&](std::size_t, std::size_t count) { at += kept_run_floats(count, keep_per_node_); });
-    }
-    k.state = at <= keep_level_floats_ ? Kept::written : Kept::too_large;
-    if (k.state == Kept::written) k.mode = Keep::write;
+    std::fill_n(keep_written_.get() + l * level_flags, level_flags, std::uint8_t(0));
+    k.origin_x = s.origin_x;
+    k.origin_y = s.origin_y;
+    k.current = k.fresh = true;
   }
 }
 
@@ -482,52 +476,48 @@ void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned par
       if (row_index % parts != part) continue;
       const float y = s.origin_y + float(j) * s.cell;
       const std::size_t o = j * stride_;
-      const Keep mode = keep_levels_[l].mode;
-      float* keep = mode == Keep::off ? nullptr : keep_.get() + l * keep_level_floats_ + keep_rows_[std::size_t(l) * nodes + j];
+      float* const keep_row = keep_ && !keep_levels_[l].fresh ? keep_.get() + l * keep_level_floats_ + j * kept_run_floats(nodes, keep_per_node_) : nullptr;
       for_each_run(l, j, [&](std::size_t i0, std::size_t count) {
+        float* const keep = keep_row != nullptr ? keep_row + i0 * keep_per_node_ : nullptr;
         // Node coordinates exactly as the marcher's grid coordinates invert them: origin + i * cell.
         for (std::size_t i = 0; i < count; ++i) row_x[i] = s.origin_x + float(i0 + i) * s.cell;
         std::fill(row_y, row_y + count, y);
         SurfaceSamples run{row_x, row_y, count, footprint, heights(l) + o + i0, grad_x(l) + o + i0, grad_y(l) + o + i0,
-                           slope_variance(l) + o + i0, keep, mode == Keep::read};
+                           slope_variance(l) + o + i0, keep, keep != nullptr && kept_run(l, j, i0, count)};
         sampler(context, run);
-        if (keep != nullptr) keep += kept_run_floats(count, keep_per_node_);
       });
     }
   }
 }
 
 std::size_t SurfaceFrame::kept_bytes_bound(const SurfaceFrameConfig& config, std::size_t floats_per_node) noexcept {
-  if (!check(config)) return 0;
-  const std::size_t nodes = config.cells + 1;
-  const std::size_t level = std::min(nodes * kept_run_floats(nodes, floats_per_node) * sizeof(float),
-                                     max_kept_bytes / config.levels / 64 * 64);
-  return config.levels * level;
+  // A run starts on a tile's first node: at a multiple of 16, each node's place is the same in every run.
+  if (!check(config) || config.tile_cells % 16 != 0) return 0;
+  const std::size_t nodes = config.cells + 1, level = nodes * kept_run_floats(nodes, floats_per_node) * sizeof(float);
+  return level <= max_kept_bytes / config.levels ? config.levels * level : 0;
 }
 
 void SurfaceFrame::keep_static(std::size_t floats_per_node) noexcept {
   keep_.reset();
-  keep_rows_.reset();
-  keep_needed_.reset();
-  keep_level_floats_ = keep_per_node_ = 0;
+  keep_written_.reset();
+  keep_level_floats_ = keep_per_node_ = keep_row_blocks_ = 0;
   keep_sampler_ = nullptr;
   keep_context_ = nullptr;
   for (KeptLevel& k : keep_levels_) k = {};
-  if (floats_per_node == 0) return;
-  const std::size_t bytes = kept_bytes_bound(config_, floats_per_node);
-  const std::size_t rows = std::size_t(config_.levels) * (config_.cells + 1), flags = std::size_t(config_.levels) * tiles_ * tiles_;
+  const std::size_t bytes = floats_per_node > 0 ? kept_bytes_bound(config_, floats_per_node) : 0;
+  if (bytes == 0) return;
+  const std::size_t nodes = config_.cells + 1, row_blocks = (nodes + 15) / 16;
   // Not value-initialised: the pages a view never needs are never touched.
   keep_.reset(new (std::nothrow) float[bytes / sizeof(float)]);
-  keep_rows_.reset(new (std::nothrow) std::size_t[rows]);
-  keep_needed_.reset(new (std::nothrow) std::uint8_t[flags]);
-  if (!keep_ || !keep_rows_ || !keep_needed_) {  // an optimisation only: without the memory, none
+  keep_written_.reset(new (std::nothrow) std::uint8_t[std::size_t(config_.levels) * nodes * row_blocks]);
+  if (!keep_ || !keep_written_) {  // an optimisation only: without the memory, none
     keep_.reset();
-    keep_rows_.reset();
-    keep_needed_.reset();
+    keep_written_.reset();
     return;
   }
   keep_level_floats_ = bytes / sizeof(float) / config_.levels;
   keep_per_node_ = floats_per_node;
+  keep_row_blocks_ = row_blocks;
 }
 
 void SurfaceFrame::finish_frame() noexcept {

@@ -191,17 +191,19 @@ class SurfaceFrame {
 
   /// Most bytes keep_static() takes.
   static constexpr std::size_t max_kept_bytes = std::size_t(128) << 20;
-  /// Bytes keep_static(floats_per_node) takes for `config`: enough for every node of every level, but at
-  /// most max_kept_bytes, a share per level (a level that needs more keeps nothing). 0 for an invalid
-  /// config.
+  /// Bytes keep_static(floats_per_node) takes for `config`: a place for every node of every level, or
+  /// 0 (nothing kept) where that is over max_kept_bytes, for tiles of fewer than 16 cells and for an
+  /// invalid config.
   static std::size_t kept_bytes_bound(const SurfaceFrameConfig& config, std::size_t floats_per_node) noexcept;
   /// Lets the fill's samplers keep `floats_per_node` floats per node of what changes neither with the
   /// time nor with the viewer (SurfaceSamples::keep), in memory allocated here, once
-  /// (kept_bytes_bound; untouched pages cost nothing until a view needs them). Level by level: a fill
-  /// that finds a level's origin and filled tiles as the last fill left them lets the sampler write
-  /// there, and the fills after it, while they hold, read it back. A fixed camera pays that part of
-  /// the fill once; a moving one, for each level, once per move of its origin or of the view's edge
-  /// across its tiles (docs/design.md 3). 0, or no memory for it: nothing kept.
+  /// (kept_bytes_bound; untouched pages cost nothing until a view needs them). Each node has its place
+  /// in its level's share, and each 16 nodes of a row a count of those written: a run whose nodes are
+  /// all written is read back, any other run is written. A level's origin moving forgets what it
+  /// kept, and its first fill there keeps nothing (so that a single frame touches none of the
+  /// memory). A fixed camera pays that part of the fill once; a moving one, for the tiles the view
+  /// newly needs and for each move of a level's origin (docs/design.md 3). 0, or no memory for it
+  /// (kept_bytes_bound 0 included): nothing kept.
   void keep_static(std::size_t floats_per_node) noexcept;
 
   /// Bounds of anything added on top of the grid (capillary noise: capillary_height_bound and
@@ -242,8 +244,9 @@ class SurfaceFrame {
   /// tiles, from node i0 on.
   template <class F>
   void for_each_run(std::uint32_t l, std::uint32_t j, F&& f) const noexcept;
-  /// Whether level l's origin and filled tiles are the last fill's (and records them as the last).
-  bool same_level_layout(std::uint32_t l) noexcept;
+  /// Whether the run of node row j of level l from node i0 (a multiple of 16) holds what the sampler
+  /// wrote (all its nodes); if not, records it as written (by the sampler, now).
+  bool kept_run(std::uint32_t l, std::uint32_t j, std::size_t i0, std::size_t count) noexcept;
 
   SurfaceFrameConfig config_{};
   std::unique_ptr<float, FreeAligned> memory_;
@@ -270,22 +273,17 @@ class SurfaceFrame {
   bool morphed_ = false;  ///< the band nodes hold their morphed values (finish once per fill)
   bool bounded_ = false;  ///< the tiles' own bounds are those of the morphed nodes (bound_part ran)
 
-  // keep_static: the kept floats (a share per level), each node row's first one in its level's share,
-  // and per level the layout they belong to and this fill's use of them.
-  enum class Keep : std::uint8_t { off, write, read };
-  /// What a level's share holds for its last layout: nothing yet, what the samplers wrote, or nothing
-  /// ever (too large).
-  enum class Kept : std::uint8_t { nothing, written, too_large };
+  // keep_static: the kept floats (a share per level: node (i, j) at (j round16(cells + 1) + i) floats
+  // per node), per level, node row and 16 nodes of it how many of those, from the first, hold what the
+  // sampler wrote (keep_written_), and per level the origin they belong to.
   struct KeptLevel {
     float origin_x = 0.0f, origin_y = 0.0f;
-    bool have_layout = false;  ///< origin and keep_needed_'s share hold the last fill's
-    Kept state = Kept::nothing;
-    Keep mode = Keep::off;
+    bool current = false;  ///< the origin is this fill's, keep_written_'s share holds for it
+    bool fresh = false;    ///< this fill is the origin's first: nothing kept (a single frame writes none)
   };
   std::unique_ptr<float[]> keep_;
-  std::unique_ptr<std::size_t[]> keep_rows_;
-  std::unique_ptr<std::uint8_t[]> keep_needed_;  ///< the last fill's needed_
-  std::size_t keep_level_floats_ = 0, keep_per_node_ = 0;
+  std::unique_ptr<std::uint8_t[]> keep_written_;
+  std::size_t keep_level_floats_ = 0, keep_per_node_ = 0, keep_row_blocks_ = 0;
   SurfaceSampler keep_sampler_ = nullptr;  ///< of the last fill
   void* keep_context_ = nullptr;
   std::array<KeptLevel, max_levels> keep_levels_{};
