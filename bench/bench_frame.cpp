@@ -161,13 +161,17 @@ Retessellation* retessellation(houle::QualityPreset q, std::string* error) {
   return cache.emplace(int(q), std::move(r)).first->second.get();
 }
 
-void bm_retessellate(benchmark::State& state, houle::QualityPreset q) {
+/// The fill of every tile begin_frame marks, frame after frame at a fixed centre; `kept`: with the
+/// static fields kept (SurfaceFrame::keep_static, as Animation fills), read back from the third frame.
+void bm_retessellate(benchmark::State& state, houle::QualityPreset q, bool kept) {
   std::string error;
   Retessellation* r = retessellation(q, &error);
   if (!r) {
     state.SkipWithError(error.c_str());
     return;
   }
+  const std::size_t keep_floats = kept ? r->sea.sample_keep_floats() : 0;
+  r->frame.keep_static(keep_floats);
   // Cells filled per frame (the tiles begin_frame marks; the same every frame for a fixed centre).
   r->frame.begin_frame(r->centre_x, r->centre_y);
   const houle::SurfaceFrameConfig& c = r->frame.config();
@@ -192,6 +196,8 @@ void bm_retessellate(benchmark::State& state, houle::QualityPreset q) {
   state.counters["ns_per_cell"] = benchmark::Counter(items, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["cells"] = double(cells);
   state.counters["sea_cell_m"] = double(houle::quality_preset(q).sea_cell);
+  // 0 where the level's nodes do not fit its share of the keep (film): then nothing is kept.
+  state.counters["kept_MiB"] = double(houle::SurfaceFrame::kept_bytes_bound(c, keep_floats)) / double(1 << 20);
   state.SetLabel(std::string(houle::quality_name(q)));
 }
 
@@ -213,9 +219,12 @@ const bool registered = [] {
     }
   }
   for (auto q : {houle::QualityPreset::draft, houle::QualityPreset::realtime, houle::QualityPreset::film}) {
-    benchmark::RegisterBenchmark(("retessellate/" + std::string(houle::quality_name(q))).c_str(), bm_retessellate, q)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
+    for (bool kept : {false, true}) {
+      benchmark::RegisterBenchmark(("retessellate/" + std::string(houle::quality_name(q)) + (kept ? "/kept" : "")).c_str(),
+                                   bm_retessellate, q, kept)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
   }
   return true;
 }();

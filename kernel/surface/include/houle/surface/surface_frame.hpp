@@ -190,7 +190,7 @@ class SurfaceFrame {
   void finish_frame() noexcept;
 
   /// Most bytes keep_static() takes.
-  static constexpr std::size_t max_kept_bytes = std::size_t(128) << 20;
+  static constexpr std::size_t max_kept_bytes = std::size_t(320) << 20;
   /// Bytes keep_static(floats_per_node) takes for `config`: a place for every node of every level, or
   /// 0 (nothing kept) where that is over max_kept_bytes, for tiles of fewer than 16 cells and for an
   /// invalid config.
