@@ -678,7 +678,7 @@ void Renderer::Impl::shade_sample(Scratch& s, float* rgb, bool first) noexcept {
     if (shaded && a[Scratch::side][i] > 0.0f) {  // sea_light's
       ++s.counters.sea;
       c = {a[Scratch::light_r][i], a[Scratch::light_g][i], a[Scratch::light_b][i]};
-    } else if (colour_kept(s, i)) {
+    } else if (a[Scratch::side][i] == 0.0f && colour_kept(s, i)) {  // a sea hit from below keeps none
       c = kept_primary(s, i);
     } else {
       c = shade_primary(s, i, s.counters);
