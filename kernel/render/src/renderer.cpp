@@ -215,12 +215,15 @@ struct Renderer::Impl {
   std::vector<float> memo_t_max;
   std::vector<std::uint8_t> memo_flags;
   std::vector<float> memo_rgb;  // 3 per entry, valid where the flags say kept_colour
+  // The frame before's camera and cut. The memo is used only where this frame's are the same (a
+  // still camera), so that a moving camera writes none that the next frame would not read.
   Camera memo_camera;
-  double memo_cut = std::numeric_limits<double>::quiet_NaN();  // NaN: none kept yet
-  bool memo_refill = true;  // this frame: the camera or the cut moved
+  double memo_cut = std::numeric_limits<double>::quiet_NaN();  // NaN: no frame yet
+  bool memo_use = false;     // this frame: a still camera, and a memo
+  bool memo_refill = true;   // this frame: the memo holds no hits of this camera yet
+  bool memo_valid = false;   // after the frame: the memo holds its camera's hits
   // This frame keeps the colours off the sea: nothing but the camera and the cut changes them (no
-  // movers, a camera above the sea, the shaded view). Written once the camera has held still for a
-  // frame, so that a moving one writes none.
+  // movers, a camera above the sea, the shaded view).
   bool keep_colours = false;
   FrameTimes times;
   RenderCounters counters;
@@ -265,8 +268,6 @@ struct Renderer::Impl {
   LinearRgb from_air(const SurfaceHit& h, const Vec3& p, const Vec3& d, float travelled, LinearRgb sky_along_d) const noexcept;
   LinearRgb through_water_to(const SurfaceHit& h, LinearRgb albedo, const Vec3& p, const Vec3& d,
                              float illumination) const noexcept;
-  static void pack_ray(Scratch& s, std::size_t k, std::size_t i, const Vec3& p, const Vec3& offset_normal, float offset,
-                       const Vec3& d, float reach) noexcept;
   void nearest_hits(Scratch& s, std::size_t rays, SurfaceHit* hits) const noexcept;
   void primary_hits(Scratch& s, std::size_t memo_row) noexcept;
   void find_water_hits(Scratch& s, bool meets_sea) const noexcept;
@@ -400,23 +401,11 @@ LinearRgb Renderer::Impl::shade_primary(const Scratch& s, std::size_t i, RenderC
   return through_water(reflected * kr + transmitted * (1.0f - kr), t, 0.0f, sea_illumination);
 }
 
-/// Where pack_rays and pack_ray put a row's rays for nearest_hits.
+/// Where pack_rays (and primary_hits) put a row's rays for nearest_hits.
 static detail::RayPackOutput packed_rays(Scratch& s) {
   float* const* a = s.a;
   return {a[Scratch::ray_ox], a[Scratch::ray_oy], a[Scratch::ray_oz], a[Scratch::ray_dx], a[Scratch::ray_dy],
           a[Scratch::ray_dz], a[Scratch::ray_reach], s.ray_pixel.data()};
-}
-
-/// Packs pixel i's ray from p, moved off the surface by `offset` along offset_normal, along d as the
-/// row's k-th ray (nearest_hits), met up to `reach` m.
-void Renderer::Impl::pack_ray(Scratch& s, std::size_t k, std::size_t i, const Vec3& p, const Vec3& offset_normal,
-                              float offset, const Vec3& d, float reach) noexcept {
-  const Vec3 o = along(p, offset_normal, offset);
-  float* const* a = s.a;
-  a[Scratch::ray_ox][k] = o[0], a[Scratch::ray_oy][k] = o[1], a[Scratch::ray_oz][k] = o[2];
-  a[Scratch::ray_dx][k] = d[0], a[Scratch::ray_dy][k] = d[1], a[Scratch::ray_dz][k] = d[2];
-  a[Scratch::ray_reach][k] = reach;
-  s.ray_pixel[k] = std::uint32_t(i);
 }
 
 /// The nearest hit of each of the row's `rays` packed rays within its reach, into hits[pixel] (the
@@ -435,19 +424,28 @@ void Renderer::Impl::nearest_hits(Scratch& s, std::size_t rays, SurfaceHit* hits
     return SceneRay{a[Scratch::ray_ox][k], a[Scratch::ray_oy][k], a[Scratch::ray_oz][k],
                     a[Scratch::ray_dx][k], a[Scratch::ray_dy][k], a[Scratch::ray_dz][k]};
   };
+  // The arrays held here: a hit's HitKind is a byte, whose store may alias anything, so that the
+  // compiler would read every pointer again per ray.
+  const float *reach = a[Scratch::ray_reach], *left = a[Scratch::hit_left], *meet = a[Scratch::hit_objects],
+              *t = a[Scratch::hit_t], *nx = a[Scratch::hit_nx], *ny = a[Scratch::hit_ny], *nz = a[Scratch::hit_nz];
+  const std::uint32_t* pixel = s.ray_pixel.data();
   for (std::size_t k = 0; k < rays; ++k) {
-    const float reach = a[Scratch::ray_reach][k];
-    SurfaceHit& h = hits[s.ray_pixel[k]];
-    h = SurfaceHit{};
-    if (a[Scratch::hit_left][k] > 0.0f) {
-      h = objects.intersect_secondary(ray(k), 0.0, double(reach));
+    SurfaceHit& h = hits[pixel[k]];
+    if (left[k] > 0.0f) {
+      h = objects.intersect_secondary(ray(k), 0.0, double(reach[k]));
       continue;
     }
-    const float t_floor = a[Scratch::hit_t][k];
-    if (a[Scratch::hit_objects][k] > 0.0f) h = objects.intersect_objects(ray(k), 0.0, double(std::min(t_floor, reach)));
-    if (h.kind == HitKind::none && t_floor < reach) {
-      h = {t_floor, HitKind::floor, 0, {a[Scratch::hit_nx][k], a[Scratch::hit_ny][k], a[Scratch::hit_nz][k]}};
+    if (meet[k] > 0.0f) {
+      h = objects.intersect_objects(ray(k), 0.0, double(std::min(t[k], reach[k])));
+      if (h.kind != HitKind::none) continue;
     }
+    // Field by field: a whole SurfaceHit built and copied is stored in parts and read back whole,
+    // which stalls the store's forwarding.
+    const bool floor = t[k] < reach[k];
+    h.t = floor ? t[k] : std::numeric_limits<float>::infinity();
+    h.kind = floor ? HitKind::floor : HitKind::none;
+    h.index = 0;
+    h.normal = {floor ? nx[k] : 0.0f, floor ? ny[k] : 0.0f, floor ? nz[k] : 1.0f};
   }
 }
 
@@ -758,19 +756,21 @@ void Renderer::Impl::add_aovs(const Scratch& s, std::uint32_t row, int sample) c
 
 /// The primary rays' object and floor hits for the row's directions, into s.object, and the marcher's
 /// t_max from them (docs/rendering.md 2.4). They depend on the camera, the cut and the objects' poses
-/// only: with the memo (`memo_row`: the row's first entry; without it, the scratch's own row), a ray
-/// keeps the hit found when the camera and the cut were this frame's unless it meets a moving object's
-/// bounds, now or then; the others are found, a packet at a time (nearest_hits), into the memo's row.
+/// only: with the memo (a still camera; `memo_row`: the row's first entry; without it, the scratch's
+/// own row), a ray keeps the hit found when the camera and the cut were this frame's unless it meets a
+/// moving object's bounds, now or then; the others are found, a packet at a time (nearest_hits), into
+/// the memo's row.
 void Renderer::Impl::primary_hits(Scratch& s, std::size_t memo_row) noexcept {
   float* const* a = s.a;
   const Vec3& o = camera.position;
   const bool movers = objects.has_movers();
-  const bool kept = !memo_hits.empty();
+  const bool kept = memo_use;
   s.object = kept ? memo_hits.data() + memo_row : s.own_object.data();
   float* const kept_t_max = kept ? memo_t_max.data() + memo_row : nullptr;
   std::uint8_t* const kept_flags = kept ? memo_flags.data() + memo_row : nullptr;
-  s.kept_rgb = keep_colours && !memo_refill ? memo_rgb.data() + 3 * memo_row : nullptr;
-  s.kept_flags = keep_colours && !memo_refill ? kept_flags : nullptr;
+  // On a refill the flags of every pixel are cleared below before the shading writes a colour.
+  s.kept_rgb = keep_colours ? memo_rgb.data() + 3 * memo_row : nullptr;
+  s.kept_flags = keep_colours ? kept_flags : nullptr;
   std::size_t rays = 0;
   // A still camera without movers keeps every hit: the row's t_max is the memo's.
   if (kept && !memo_refill && !movers) {
@@ -781,32 +781,43 @@ void Renderer::Impl::primary_hits(Scratch& s, std::size_t memo_row) noexcept {
   // A ray that goes up from above every box, sphere (wherever a moving one may be) and the floor's
   // highest sample meets nothing: a camera above the scene sends its sky pixels through no packet.
   const bool above_all = double(o[2]) > std::max(double(casters_top), objects.floor_z_max());
+  // The arrays held here: a flag is a byte, whose store may alias anything (as in nearest_hits).
+  const float *dx = a[Scratch::dx], *dy = a[Scratch::dy], *dz = a[Scratch::dz];
+  float* const t_max = a[Scratch::t_max];
+  float *ray_ox = a[Scratch::ray_ox], *ray_oy = a[Scratch::ray_oy], *ray_oz = a[Scratch::ray_oz];
+  float *ray_dx = a[Scratch::ray_dx], *ray_dy = a[Scratch::ray_dy], *ray_dz = a[Scratch::ray_dz];
+  float* const ray_reach = a[Scratch::ray_reach];
+  std::uint32_t* const ray_pixel = s.ray_pixel.data();
+  SurfaceHit* const object = s.object;
+  const double drop = primary_floor_lo - double(o[2]);
   for (std::size_t i = 0; i < width; ++i) {
-    const Vec3 d{a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]};
+    const Vec3 d{dx[i], dy[i], dz[i]};
     if (above_all && d[2] > 0.0f) {
-      s.object[i] = SurfaceHit{};
-      a[Scratch::t_max][i] = max_distance;
+      object[i] = SurfaceHit{};
+      t_max[i] = max_distance;
       if (kept) kept_t_max[i] = max_distance, kept_flags[i] = 0;
       continue;
     }
     // Past the cut a ray from above has crossed the sea: its floor and objects there are not seen.
-    const float reach =
-        d[2] < 0.0f ? std::min(max_distance, float((primary_floor_lo - double(o[2])) / double(d[2]))) : max_distance;
+    const float reach = d[2] < 0.0f ? std::min(max_distance, float(drop / double(d[2]))) : max_distance;
     const bool meets_movers = movers && objects.meets_movers(make_ray(o, d, 0.0f, d), double(reach));
     if (kept && !memo_refill && !meets_movers && (kept_flags[i] & kept_meets_movers) == 0) {
-      a[Scratch::t_max][i] = kept_t_max[i];
+      t_max[i] = kept_t_max[i];
       ++s.counters.reused;
       continue;
     }
     if (kept) kept_flags[i] = meets_movers ? kept_meets_movers : 0;
-    pack_ray(s, rays++, i, o, {0.0f, 0.0f, 0.0f}, 0.0f, d, reach);
+    ray_ox[rays] = o[0], ray_oy[rays] = o[1], ray_oz[rays] = o[2];
+    ray_dx[rays] = d[0], ray_dy[rays] = d[1], ray_dz[rays] = d[2];
+    ray_reach[rays] = reach;
+    ray_pixel[rays++] = std::uint32_t(i);
   }
-  nearest_hits(s, rays, s.object);
+  nearest_hits(s, rays, object);
   for (std::size_t k = 0; k < rays; ++k) {
-    const std::size_t i = s.ray_pixel[k];
-    const float t_max = s.object[i].kind != HitKind::none ? s.object[i].t : max_distance;
-    a[Scratch::t_max][i] = t_max;
-    if (kept) kept_t_max[i] = t_max;
+    const std::size_t i = ray_pixel[k];
+    const float t = object[i].kind != HitKind::none ? object[i].t : max_distance;
+    t_max[i] = t;
+    if (kept) kept_t_max[i] = t;
   }
 }
 
@@ -1056,10 +1067,13 @@ void Renderer::render(const SurfaceFrame& surface, const CapillaryFrame* noise, 
                                                                             : frame_cut;
   // Every field of the camera, bit for bit (no padding: sizeof is the sum of the fields).
   static_assert(sizeof(Camera) == 16 * 4);
-  r.memo_refill = std::memcmp(&r.memo_camera, &camera, sizeof(Camera)) != 0 || !(r.primary_floor_lo == r.memo_cut);
+  const bool still = std::memcmp(&r.memo_camera, &camera, sizeof(Camera)) == 0 && r.primary_floor_lo == r.memo_cut;
+  r.memo_use = still && !r.memo_hits.empty();
+  r.memo_refill = !(still && r.memo_valid);
+  r.memo_valid = r.memo_use;
   r.memo_camera = camera;
   r.memo_cut = r.primary_floor_lo;
-  r.keep_colours = !r.memo_rgb.empty() && !r.objects.has_movers() && !r.camera_under && view == RenderView::shaded;
+  r.keep_colours = r.memo_use && !r.objects.has_movers() && !r.camera_under && view == RenderView::shaded;
   for (auto& s : r.scratch) {
     s->march_ns = s->intersect_ns = s->shade_ns = 0;
     s->counters = {};
