@@ -2,7 +2,8 @@
 // primary rays' directions, Gerstner height + gradient, capillary noise (height + gradient, and height only) at every
 // octave, i.e. the cost of a sample near the camera where the LOD keeps all of them, two of the
 // shading's table lookups (the sky along a direction, the water's colour along a path, eq. 12), the
-// light of a sea hit seen from above and the light on the sea bed under it.
+// light of a sea hit seen from above and the light on the sea bed under it, and a moving camera's
+// primary rays' floor walk.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -17,6 +18,10 @@
 #include "houle/surface/capillary.hpp"
 #include "houle/surface/gerstner.hpp"
 #include "houle/runtime/isa.hpp"
+#include "houle/sim/animation.hpp"
+#include "houle/sim/scene.hpp"
+#include "floor_hits.hpp"
+#include "scene_objects.hpp"
 #include "sea_light.hpp"
 #include "shadow_mask.hpp"
 #include "under_light.hpp"
@@ -32,14 +37,21 @@ void count_samples(benchmark::State& state, std::size_t per_iteration) {
       benchmark::Counter(samples * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-// A 1283-pixel row of a 1283x720 image (an 8k+3 width: the tail is included), 50 degrees high.
-void bm_camera_rows(benchmark::State& state, houle::Isa isa) {
+// A camera 50 degrees high over the built-in coast's beach, looking out to sea.
+houle::CameraParams beach_camera(std::array<float, 3> position, std::array<float, 3> look_at, std::uint32_t width,
+                                 std::uint32_t height) {
   houle::CameraParams p;
-  p.position = {110.0f, 178.0f, 6.0f};
-  p.look_at = {140.0f, 60.0f, 0.0f};
+  p.position = position;
+  p.look_at = look_at;
   p.vertical_fov = 0.8726646f;
-  p.width = 1283;
-  p.height = 720;
+  p.width = width;
+  p.height = height;
+  return p;
+}
+
+// A 1283-pixel row of a 1283x720 image (an 8k+3 width: the tail is included).
+void bm_camera_rows(benchmark::State& state, houle::Isa isa) {
+  const houle::CameraParams p = beach_camera({110.0f, 178.0f, 6.0f}, {140.0f, 60.0f, 0.0f}, 1283, 720);
   const houle::Camera camera = houle::make_camera(p).value();
   std::vector<float> dx(p.width), dy(p.width), dz(p.width);
   std::uint32_t row = 0;
@@ -199,6 +211,50 @@ void bm_under_light(benchmark::State& state, houle::Isa isa) {
   count_samples(state, n);
 }
 
+// The primary rays of the fly-along's camera at 4 s (scenes/coast_flyby.toml) over the built-in
+// coast, 640x360, those that go down (the renderer sends the others from above the scene through no
+// packet): their floor hits and object-bounds tests a row at a time, as a moving camera's intersect
+// stage finds them (docs/rendering.md 2.4), each down to 1.3 m under the still water (about the
+// coast's cut). Per ray.
+void bm_primary_floor(benchmark::State& state, houle::Isa isa) {
+  static const houle::detail::SceneObjects objects =
+      houle::detail::SceneObjects::build(houle::make_render_scene(houle::builtin_coast())).value();
+  const houle::CameraParams p = beach_camera({90.0f, 176.0f, 7.0f}, {135.0f, 60.0f, 0.0f}, 640, 360);
+  const houle::Camera camera = houle::make_camera(p).value();
+  constexpr float cut = -1.3f;
+  struct Row {
+    std::vector<float> ox, oy, oz, dx, dy, dz, t_max;
+  };
+  std::vector<Row> rows(p.height);
+  std::vector<float> dx(p.width), dy(p.width), dz(p.width);
+  std::size_t rays = 0;
+  for (std::uint32_t r = 0; r < p.height; ++r) {
+    houle::camera_row_rays(camera, r, 0, p.width, 0.5f, 0.5f, dx.data(), dy.data(), dz.data());
+    for (std::uint32_t i = 0; i < p.width; ++i) {
+      if (!(dz[i] < 0.0f)) continue;
+      Row& w = rows[r];
+      w.ox.push_back(p.position[0]), w.oy.push_back(p.position[1]), w.oz.push_back(p.position[2]);
+      w.dx.push_back(dx[i]), w.dy.push_back(dy[i]), w.dz.push_back(dz[i]);
+      w.t_max.push_back((cut - p.position[2]) / dz[i]);
+      ++rays;
+    }
+  }
+  std::vector<float> out[6];
+  for (std::vector<float>& o : out) o.resize(p.width);
+  const houle::detail::FloorGridView grid = objects.floor_grid();
+  const houle::detail::ObjectBounds bounds = objects.object_bounds();
+  for (auto _ : state) {
+    for (const Row& w : rows) {
+      houle::detail::floor_hits(isa, grid, bounds,
+                                {w.ox.data(), w.oy.data(), w.oz.data(), w.dx.data(), w.dy.data(), w.dz.data(), w.t_max.data()},
+                                w.ox.size(), {out[0].data(), out[1].data(), out[2].data(), out[3].data(), out[4].data(), out[5].data()});
+    }
+    benchmark::DoNotOptimize(out[0].data());
+    benchmark::ClobberMemory();
+  }
+  count_samples(state, rays);
+}
+
 const bool registered = [] {
   for (houle::Isa isa : houle::supported_isas()) {
     const std::string name(houle::isa_name(isa));
@@ -215,6 +271,8 @@ const bool registered = [] {
     benchmark::RegisterBenchmark(("water_mix/" + name).c_str(), bm_water_mix, isa);
     benchmark::RegisterBenchmark(("sea_light/" + name).c_str(), bm_sea_light, isa);
     benchmark::RegisterBenchmark(("under_light/" + name).c_str(), bm_under_light, isa);
+    benchmark::RegisterBenchmark(("floor_hits/primary/" + name).c_str(), bm_primary_floor, isa)
+        ->Unit(benchmark::kMicrosecond);
   }
   return true;
 }();

@@ -6,7 +6,7 @@ import subprocess
 import sys
 
 out = subprocess.run([sys.argv[1], "--benchmark_min_time=0.001", "--benchmark_format=json",
-                      "--benchmark_filter=camera_row_rays|gerstner_eval|capillary|sky_lookup|water_mix|sea_light|under_light"], check=True, capture_output=True, text=True)
+                      "--benchmark_filter=camera_row_rays|gerstner_eval|capillary|sky_lookup|water_mix|sea_light|under_light|floor_hits"], check=True, capture_output=True, text=True)
 runs = json.loads(out.stdout)["benchmarks"]
 bad = [r["name"] for r in runs if abs(r["ns_per_sample"] * r["items_per_second"] / 1e9 - 1.0) > 1e-3]
 if not runs or bad:
