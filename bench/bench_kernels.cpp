@@ -245,9 +245,10 @@ void bm_primary_floor(benchmark::State& state, houle::Isa isa) {
   const houle::detail::ObjectBounds bounds = objects.object_bounds();
   for (auto _ : state) {
     for (const Row& w : rows) {
-      houle::detail::floor_hits(isa, grid, bounds,
-                                {w.ox.data(), w.oy.data(), w.oz.data(), w.dx.data(), w.dy.data(), w.dz.data(), w.t_max.data()},
-                                w.ox.size(), {out[0].data(), out[1].data(), out[2].data(), out[3].data(), out[4].data(), out[5].data()});
+      const houle::detail::FloorRays in{w.ox.data(), w.oy.data(), w.oz.data(), w.dx.data(),
+                                        w.dy.data(), w.dz.data(), w.t_max.data()};
+      houle::detail::floor_hits(isa, grid, bounds, in, w.ox.size(),
+                                {out[0].data(), out[1].data(), out[2].data(), out[3].data(), out[4].data(), out[5].data()});
     }
     benchmark::DoNotOptimize(out[0].data());
     benchmark::ClobberMemory();

@@ -476,7 +476,9 @@ void SurfaceFrame::fill_part(SurfaceSampler sampler, void* context, unsigned par
       if (row_index % parts != part) continue;
       const float y = s.origin_y + float(j) * s.cell;
       const std::size_t o = j * stride_;
-      float* const keep_row = keep_ && !keep_levels_[l].fresh ? keep_.get() + l * keep_level_floats_ + j * kept_run_floats(nodes, keep_per_node_) : nullptr;
+      float* const keep_row = keep_ && !keep_levels_[l].fresh
+                                  ? keep_.get() + l * keep_level_floats_ + j * kept_run_floats(nodes, keep_per_node_)
+                                  : nullptr;
       for_each_run(l, j, [&](std::size_t i0, std::size_t count) {
         float* const keep = keep_row != nullptr ? keep_row + i0 * keep_per_node_ : nullptr;
         // Node coordinates exactly as the marcher's grid coordinates invert them: origin + i * cell.
