@@ -218,6 +218,11 @@ TEST(Renderer, StillCameraReusesPrimaryHitsAndChangesNoByte) {
       Renderer fresh = make_renderer(*sc, W, H, q, 1);
       fresh.render(s, &n, nullptr, c, alone);
       EXPECT_TRUE(same_bytes(kept, alone)) << "t " << t << " bound " << sc->sea_height_bound;
+      // A kept colour counts as the sky or an object as the hit it was kept with (its flags).
+      const houle::RenderCounters &k = used.last_counters(), &f = fresh.last_counters();
+      EXPECT_EQ(k.sea, f.sea) << "t " << t << " bound " << sc->sea_height_bound;
+      EXPECT_EQ(k.object, f.object) << "t " << t << " bound " << sc->sea_height_bound;
+      EXPECT_EQ(k.sky, f.sky) << "t " << t << " bound " << sc->sea_height_bound;
     }
     const houle::RenderCounters& b = kept_bounded.last_counters();
     const std::uint64_t samples = b.sea + b.object + b.sky;

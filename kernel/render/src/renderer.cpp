@@ -51,12 +51,15 @@ constexpr float sky_water_transmission = 0.934f;
 // would otherwise be blown up without limit.
 constexpr double min_reference_klx = 10.0;
 // Per pixel and sample, up to Renderer::max_kept_bytes: what the primary ray met, the marcher's t_max
-// from it, its flags (kept_meets_movers, kept_colour) and, off the sea, its colour (primary_hits,
-// shade_sample). A 1920 x 1080 image keeps 81 MiB at one sample and 162 MiB at two; at 4 samples it
-// would be 324 MiB and at 8 (film) 648 MiB, which such renders do without.
+// from it, its flags (kept_meets_movers, kept_colour, kept_sky) and, off the sea, its colour
+// (primary_hits, shade_sample). A 1920 x 1080 image keeps 81 MiB at one sample and 162 MiB at two;
+// at 4 samples it would be 324 MiB and at 8 (film) 648 MiB, which such renders do without.
 static_assert(sizeof(SurfaceHit) + sizeof(float) + sizeof(std::uint8_t) + 3 * sizeof(float) == Renderer::kept_hit_bytes);
 constexpr std::uint8_t kept_meets_movers = 1;  // the primary ray meets a moving object's bounds
 constexpr std::uint8_t kept_colour = 2;        // the colour off the sea is kept
+// With kept_colour: the primary ray met nothing. A kept colour is counted from the flags, so that a
+// frame that only copies kept colours reads none of the kept hits (28 bytes a pixel).
+constexpr std::uint8_t kept_sky = 4;
 
 LinearRgb operator*(LinearRgb a, float s) { return {a.r * s, a.g * s, a.b * s}; }
 LinearRgb operator*(LinearRgb a, LinearRgb b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
@@ -486,8 +489,9 @@ void Renderer::Impl::find_water_hits(Scratch& s, bool meets_sea) const noexcept 
     on_sand(i, along(hit_point(i), d, h.t), a[Scratch::t][i] + h.t);
   }
   for (std::size_t i = 0; i < width; ++i) {
+    if (a[Scratch::side][i] != 0.0f || colour_kept(s, i)) continue;  // the flag first: no kept hit read
     const SurfaceHit& h = s.object[i];
-    if (a[Scratch::side][i] != 0.0f || h.kind != HitKind::floor || colour_kept(s, i)) continue;
+    if (h.kind != HitKind::floor) continue;
     on_sand(i, along(camera.position, {a[Scratch::dx][i], a[Scratch::dy][i], a[Scratch::dz][i]}, h.t), h.t);
   }
 }
@@ -683,7 +687,7 @@ void Renderer::Impl::shade_sample(Scratch& s, float* rgb, bool first) noexcept {
       if (s.kept_flags != nullptr && a[Scratch::side][i] == 0.0f) {
         float* kept = s.kept_rgb + 3 * i;
         kept[0] = c.r, kept[1] = c.g, kept[2] = c.b;
-        s.kept_flags[i] |= kept_colour;
+        s.kept_flags[i] |= s.object[i].kind == HitKind::none ? kept_colour | kept_sky : kept_colour;
       }
     }
     add_sample(s, rgb, i, c, first);
@@ -697,7 +701,7 @@ bool Renderer::Impl::colour_kept(const Scratch& s, std::size_t i) noexcept {
 
 /// Pixel i's kept colour off the sea, counted as shade_primary counts it.
 LinearRgb Renderer::Impl::kept_primary(Scratch& s, std::size_t i) noexcept {
-  ++(s.object[i].kind == HitKind::none ? s.counters.sky : s.counters.object);
+  ++((s.kept_flags[i] & kept_sky) != 0 ? s.counters.sky : s.counters.object);
   ++s.counters.kept_colour;
   const float* kept = s.kept_rgb + 3 * i;
   return {kept[0], kept[1], kept[2]};
