@@ -59,10 +59,13 @@ inline FloorWalk<A> floor_walk_start(const FloorGridView& f, simd::vmask<A> vali
   V t0 = max_as_std(zero, simd::select(dz < zero, t_hi, t_lo));
   V t1 = min_as_std(t_max, simd::select(dz < zero, t_lo, t_hi));
   const V inv_dx = simd::div(one, simd::select(dx == zero, one, dx)), inv_dy = simd::div(one, simd::select(dy == zero, one, dy));
-  {
-    // The ray meets no cell whose highest corner is below its lowest point on [t0, t1]: it walks only
-    // the box of the highest band at or below that point (FloorBand).
-    const V z_low = min_as_std(oz + t0 * dz, oz + t1 * dz);
+  // The ray meets no cell whose highest corner is below its lowest point on [t0, t1]: it walks only
+  // the box of the highest band at or below that point (FloorBand). Band 0 holds every cell, so its box
+  // is the whole plane and clips nothing: a packet all of whose lanes reach below band 1 (rays into
+  // deep water) skips the bands.
+  const V z_low = min_as_std(oz + t0 * dz, oz + t1 * dz);
+  static_assert(floor_bands > 1);
+  if (simd::any(z_low >= V(f.bands[1].z))) {
     V x0(-inf), x1(inf), y0(-inf), y1(inf);
     for (int k = 1; k < floor_bands; ++k) {
       const FloorBand& b = f.bands[k];
