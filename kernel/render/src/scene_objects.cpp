@@ -615,8 +615,9 @@ SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_m
     for (int a = 0; a < 3; ++a) {
       double ta = (double(nd.lo[a]) - o[a]) * inv[a], tb = (double(nd.hi[a]) - o[a]) * inv[a];
       if (ta > tb) std::swap(ta, tb);
-      // A ray parallel to a slab gives NaN (0 * inf) on its plane: the max/min below ignore it, keeping
-      // the node (conservative).
+      // A ray parallel to a slab gives NaN (0 * inf) on its plane: the max/min below ignore it. With a
+      // direction of -0 on that axis the other plane's infinity then drops the node, which loses nothing:
+      // every box lies strictly inside its node's padded bounds, so a ray on a node's face meets none.
       t0 = ta > t0 ? ta : t0;
       t1 = tb < t1 ? tb : t1;
     }
