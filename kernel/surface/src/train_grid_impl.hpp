@@ -303,6 +303,13 @@ void train_grid_eval_filtered(const TrainGridFrame& f, const float* x, const flo
   simd::for_batches<A>(n, [&](const auto& b) HOULE_BATCH_BODY {
     const V px = b.load(x), py = b.load(y);
     float* q = keep.data + b.index() / W * per_batch;
+    // The kept fields stream in at 44 bytes a node and train, and the hardware's prefetchers left the
+    // fill waiting on them (docs/design.md 10): ask for the batch after next.
+    // (An address, not a pointer: past the last run it lies beyond the keep, where a prefetch is harmless.)
+    const std::uintptr_t ahead = reinterpret_cast<std::uintptr_t>(q) + 2 * per_batch * sizeof(float);
+    for (std::size_t line = 0; line < per_batch * sizeof(float); line += 64) {
+      __builtin_prefetch(reinterpret_cast<const void*>(ahead + line));
+    }
     if (!keep.kept) {
       for (std::uint32_t t = 0; t < f.count; ++t) {
         const TrainGridTap<A> tap(f.trains[t], px, py);
