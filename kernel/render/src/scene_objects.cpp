@@ -678,7 +678,8 @@ bool SceneObjects::meets_movers(const SceneRay& r, double t_max) const noexcept 
     for (int a = 0; a < 3; ++a) {
       double ta = (m.lo[a] - o[a]) * inv[a], tb = (m.hi[a] - o[a]) * inv[a];
       if (ta > tb) std::swap(ta, tb);
-      // NaN (a ray parallel to a slab, on its plane) keeps the slab: conservative.
+      // NaN (a ray parallel to a slab, on its plane) is ignored, as in hit_objects; a -0 direction
+      // then drops the bounds, and rightly: they are padded beyond the object (set_bounds).
       t0 = ta > t0 ? ta : t0;
       t1 = tb < t1 ? tb : t1;
     }
