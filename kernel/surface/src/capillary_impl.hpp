@@ -161,13 +161,6 @@ inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, const std::int
   return {h, gx, gy};
 }
 
-/// The same, looking the lattice up itself (for callers outside this file, e.g. the marcher).
-template <class A, bool Grad>
-inline CapillaryPoint<A> capillary_point(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y,
-                                         simd::vfloat<A> level) {
-  return capillary_point<A, Grad>(f, capillary_lattice().pairs, x, y, level);
-}
-
 template <class A, bool Grad>
 void capillary_eval_points(const CapillaryFrame& f, const float* x, const float* y, const float* level, std::size_t n,
                            float* h, float* gx, float* gy) {

@@ -31,6 +31,7 @@ void set_ray_params(detail::MarchContext& c, const MarchParams& p, float grid_mi
     const CapillaryFrame& n = *p.noise;
     const CapillaryParams& np = n.params;
     c.noise = &n;
+    c.noise_pairs = detail::capillary_lattice().pairs;
     c.octaves = std::min<std::uint32_t>(n.octaves, CapillaryFrame::max_octaves);
     float top = 0.0f;
     const double s = double(capillary_fade_rate(np));

@@ -55,6 +55,9 @@ struct MarchContext {
   // Capillary noise (null: none). Octave i's share of the height and slope bounds
   // (capillary_height_bound and capillary_slope_bound are sums of these with weights W_i <= [level > i]).
   const CapillaryFrame* noise = nullptr;
+  /// capillary_lattice().pairs, looked up once per call: per sample its guard was 1 % of the render's
+  /// instructions (callgrind).
+  const std::int32_t* noise_pairs = nullptr;
   std::uint32_t octaves = 0;
   float octave_height[CapillaryFrame::max_octaves] = {};
   float octave_slope[CapillaryFrame::max_octaves] = {};

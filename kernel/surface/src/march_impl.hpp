@@ -245,12 +245,12 @@ HOULE_MARCH_INLINE void noise_bounds(const MarchContext& c, simd::vfloat<A> cone
 /// The two uses of capillary_impl.hpp (the only coupling to it): height alone while marching, height
 /// and gradient at the hit.
 template <class A>
-HOULE_MARCH_INLINE simd::vfloat<A> noise_height(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> level) {
-  return capillary_point<A, false>(f, x, y, level).height;
+HOULE_MARCH_INLINE simd::vfloat<A> noise_height(const MarchContext& c, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> level) {
+  return capillary_point<A, false>(*c.noise, c.noise_pairs, x, y, level).height;
 }
 template <class A>
-HOULE_MARCH_INLINE CapillaryPoint<A> noise_point(const CapillaryFrame& f, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> level) {
-  return capillary_point<A, true>(f, x, y, level);
+HOULE_MARCH_INLINE CapillaryPoint<A> noise_point(const MarchContext& c, simd::vfloat<A> x, simd::vfloat<A> y, simd::vfloat<A> level) {
+  return capillary_point<A, true>(*c.noise, c.noise_pairs, x, y, level);
 }
 
 /// Per-ray constants.
@@ -303,7 +303,7 @@ HOULE_MARCH_INLINE simd::vfloat<A> full_g(const MarchContext& c, const MarchRay<
   V f = pz - grid_height<A>(c, s);
   if (c.noise != nullptr) {
     const V level = noise_level<A>(c, r.level_offset, c.cone_width + t * c.pixel_angle);
-    f = f - noise_height<A>(*c.noise, px, py, level);
+    f = f - noise_height<A>(c, px, py, level);
   }
   return sigma * f;
 }
@@ -379,7 +379,7 @@ HOULE_MARCH_INLINE void march_step(const MarchContext& c, MarchState<A>& m, std:
     if (simd::any(m.active & near)) {
       // Inside the envelope: the noise itself, at the sample's level.
       const V level = noise_level<A>(c, r.level_offset, cone);
-      f = simd::select(near, f_grid - noise_height<A>(*c.noise, px, py, level), f_grid);
+      f = simd::select(near, f_grid - noise_height<A>(c, px, py, level), f_grid);
       // The level falls along the ray; its change moves the noise by at most this much per m.
       level_term = simd::div(V(c.level_rate * c.pixel_angle), simd::max_as_std(cone, V(1e-20f)));
     }
@@ -476,7 +476,7 @@ HOULE_MARCH_INLINE void march_result(const MarchContext& c, MarchState<A>& m, Ma
     V gy = grid_field<A>(c, c.grad_y, s, 0.0f);
     if (noise) {
       const V level = noise_level<A>(c, r.level_offset, c.cone_width + out.t * c.pixel_angle);
-      const CapillaryPoint<A> n = noise_point<A>(*c.noise, out.x, out.y, level);
+      const CapillaryPoint<A> n = noise_point<A>(c, out.x, out.y, level);
       gx = gx + n.grad_x;
       gy = gy + n.grad_y;
       out.level = simd::select(crossed, level, zero);
