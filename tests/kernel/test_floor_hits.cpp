@@ -200,26 +200,41 @@ TEST(FloorHits, LeavesWhatItCannotWalkToSceneObjects) {
 
 TEST(FloorHits, LetsThroughEveryRayThatMeetsAnObjectBeforeTheFloor) {
   // The bounds test says no only where SceneObjects finds no box or sphere before the floor's hit,
-  // and says it to most rays that pass beside them.
+  // and says it to most rays that pass beside them; the walk below the bounds' boxes it lets a ray
+  // through finds the walk from the root's hit, to the bit.
   const SceneObjects o = bumpy_floor(true);
+  ASSERT_GT(o.object_bounds().count, 8);
   for (bool up : {false, true}) {
     std::mt19937 rng(5);
     FloorTestRays r;
     const float reach = up ? 1e5f : 30.0f;
     add_rays(r, rng, 4000, reach, up);
     const WaterOut h = hits_of(o, r);
-    int met = 0, culled = 0;
+    int met = 0, culled = 0, some_boxes = 0;
     for (std::size_t k = 0; k < r.size(); ++k) {
       if (h.left[k] > 0.0f) continue;
-      const houle::detail::SurfaceHit want = o.intersect_objects(r.ray(k), 0.0, double(std::min(h.t[k], reach)));
+      const double t_end = double(std::min(h.t[k], reach));
+      const houle::detail::SurfaceHit want = o.intersect_objects(r.ray(k), 0.0, t_end);
+      const auto cut = std::uint32_t(h.objects[k]);
+      ASSERT_EQ(float(cut), h.objects[k]) << k;
       if (want.kind != houle::detail::HitKind::none) {
         ++met;
-        EXPECT_EQ(h.objects[k], 1.0f) << k;
+        ASSERT_NE(cut, 0u) << k;
       }
-      culled += h.objects[k] == 0.0f;
+      if (cut == 0) {
+        ++culled;
+        continue;
+      }
+      some_boxes += cut != (1u << o.object_bounds().count) - 1;
+      const houle::detail::SurfaceHit got = o.intersect_objects(r.ray(k), 0.0, t_end, cut);
+      EXPECT_EQ(got.kind, want.kind) << k;
+      EXPECT_EQ(got.t, want.t) << k;
+      EXPECT_EQ(got.index, want.index) << k;
+      EXPECT_EQ(got.normal, want.normal) << k;
     }
     EXPECT_GT(met, 100) << up;
     EXPECT_GT(culled, 1000) << up;
+    EXPECT_GT(some_boxes, 300) << up;  // rays let through to some of the boxes, not all
   }
   // Rays that graze a lone box (whose bounds are its own faces) within a millimetre of its edges, from
   // 10 m to 10 km away: every one that meets it is let through. (The float slab test got all of these
@@ -316,7 +331,11 @@ TEST(FloorHits, SendsNoRayThroughTheWaterBetweenTwoWallsToTheWalk) {
     ASSERT_EQ(o.intersect_objects(open.ray(k), 0.0, 10.0).kind, houle::detail::HitKind::none) << k;
     EXPECT_EQ(h.objects[k], 0.0f) << open.ox[k] << ", " << open.oy[k];
   }
-  for (std::size_t k = 0; k < onto.size(); ++k) EXPECT_EQ(h_onto.objects[k], 1.0f) << k;
+  for (std::size_t k = 0; k < onto.size(); ++k) {
+    ASSERT_NE(h_onto.objects[k], 0.0f) << k;
+    const auto cut = std::uint32_t(h_onto.objects[k]);
+    EXPECT_EQ(o.intersect_objects(onto.ray(k), 0.0, 10.0, cut).kind, houle::detail::HitKind::box) << k;
+  }
 }
 
 TEST(FloorHits, EveryIsaMatchesScalarIncludingTails) {

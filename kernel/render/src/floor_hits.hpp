@@ -59,14 +59,15 @@ struct FloorRays {
 };
 /// t: the nearest floor hit in [0, t_max), +inf for none; (nx, ny, nz) its normal (up); left: 1 for a
 /// ray the kernel leaves to SceneObjects (a level one, one with a NaN, or one not done within
-/// max_floor_steps cells), whose t and normal are then meaningless; 0 otherwise. objects: 1 where the
-/// ray may meet the object bounds before min(t, t_max) (a conservative test: 0 only where it cannot).
+/// max_floor_steps cells), whose t and normal are then meaningless; 0 otherwise. objects: which of the
+/// object bounds' boxes the ray may meet before min(t, t_max), as bits (box i: 2^i, exact in the
+/// float; a conservative test: a box's bit is 0 only where the ray cannot meet it), 0 for none.
 struct FloorHits {
   float *t, *nx, *ny, *nz, *left, *objects;
 };
 inline constexpr int max_floor_steps = 64;
 
-/// The floor hits of n rays, and whether they may meet the objects before.
+/// The floor hits of n rays, and which of the object bounds' boxes they may meet before them.
 void floor_hits(const FloorGridView& f, const ObjectBounds& b, const FloorRays& in, std::size_t n, FloorHits out) noexcept;
 /// The same on a given ISA (it must be supported): for tests and benchmarks.
 void floor_hits(Isa isa, const FloorGridView& f, const ObjectBounds& b, const FloorRays& in, std::size_t n,

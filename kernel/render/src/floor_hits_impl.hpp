@@ -214,22 +214,25 @@ inline simd::vmask<A> meets_box(const float (&lo)[3], const float (&hi)[3], cons
   return t0 <= t1;
 }
 
-/// Whether each lane's ray may meet one of the boxes of b with t in [0, t_end], the boxes grown by
-/// more than the tests' float rounding along such a ray (1e-5 of its coordinates' and length's
-/// magnitude), so that it says no only where the exact test would. The box around them all first:
-/// a lane that misses it misses them all, so the result does not depend on the other lanes.
+/// Which of the boxes of b each lane's ray may meet with t in [0, t_end], as bits (box i: 2^i; exact
+/// in a float, as b holds at most 16), the boxes grown by more than the tests' float rounding along
+/// such a ray (1e-5 of its coordinates' and length's magnitude), so that it says no only where the
+/// exact test would. The box around them all first: a lane that misses it misses them all, so the
+/// result does not depend on the other lanes.
 template <class A>
-inline simd::vmask<A> may_meet(const ObjectBounds& b, simd::vfloat<A> ox, simd::vfloat<A> oy, simd::vfloat<A> oz,
-                               simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz, simd::vfloat<A> t_end) {
+inline simd::vfloat<A> may_meet(const ObjectBounds& b, simd::vfloat<A> ox, simd::vfloat<A> oy, simd::vfloat<A> oz,
+                                simd::vfloat<A> dx, simd::vfloat<A> dy, simd::vfloat<A> dz, simd::vfloat<A> t_end) {
   using V = simd::vfloat<A>;
+  static_assert(max_object_bounds <= 24, "the bits of a float's mantissa");
   const V margin = V(1e-3f) + V(1e-5f) * (simd::abs(ox) + simd::abs(oy) + simd::abs(oz) + t_end);
   const V o[3] = {ox, oy, oz};
   const V inv[3] = {simd::div(V(1.0f), dx), simd::div(V(1.0f), dy), simd::div(V(1.0f), dz)};
-  simd::vmask<A> meet = meets_box<A>(b.all_lo, b.all_hi, o, inv, margin, t_end);
-  if (!simd::any(meet)) return meet;
-  meet = simd::vmask<A>(false);
-  for (int i = 0; i < b.count; ++i) meet = meet | meets_box<A>(b.lo[i], b.hi[i], o, inv, margin, t_end);
-  return meet;
+  V bits(0.0f);
+  if (!simd::any(meets_box<A>(b.all_lo, b.all_hi, o, inv, margin, t_end))) return bits;
+  for (int i = 0; i < b.count; ++i) {
+    bits = bits + simd::select(meets_box<A>(b.lo[i], b.hi[i], o, inv, margin, t_end), V(float(1u << i)), V(0.0f));
+  }
+  return bits;
 }
 
 /// The floor walk of n rays (a ray with t_max > 0, not NaN, is valid), two packets at a time, and
@@ -246,12 +249,11 @@ void floor_hits_batch(const FloorGridView& f, const ObjectBounds& bounds, const 
   const auto store = [&](const auto& b, const FloorWalk<A>& w) HOULE_BATCH_BODY {
     const FloorHit<A>& h = w.h;
     const simd::vmask<A> valid = w.t_max > V(0.0f);
-    simd::vmask<A> meet(false);
+    V meet(0.0f);
     if (bounds.count > 0 && simd::any(valid)) {
-      const simd::vmask<A> may = may_meet<A>(bounds, w.ox, w.oy, w.oz, w.dx, w.dy, w.dz, min_as_std(h.t, w.t_max));
-      meet = valid & may;
+      meet = simd::select(valid, may_meet<A>(bounds, w.ox, w.oy, w.oz, w.dx, w.dy, w.dz, min_as_std(h.t, w.t_max)), meet);
     }
-    b.store(out.objects, simd::select(meet, V(1.0f), V(0.0f)));
+    b.store(out.objects, meet);
     b.store(out.t, h.t);
     b.store(out.nx, h.nx);
     b.store(out.ny, h.ny);

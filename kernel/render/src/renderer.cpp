@@ -439,7 +439,7 @@ void Renderer::Impl::nearest_hits(Scratch& s, std::size_t rays, SurfaceHit* hits
       continue;
     }
     if (meet[k] > 0.0f) {
-      h = objects.intersect_objects(ray(k), 0.0, double(std::min(t[k], reach[k])));
+      h = objects.intersect_objects(ray(k), 0.0, double(std::min(t[k], reach[k])), std::uint32_t(meet[k]));
       if (h.kind != HitKind::none) continue;
     }
     // Field by field: a whole SurfaceHit built and copied is stored in parts and read back whole,

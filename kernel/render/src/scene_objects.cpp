@@ -400,6 +400,7 @@ void SceneObjects::cut_bounds() {
   for (std::size_t i = 0; i < cut.size(); ++i) {
     std::copy_n(nodes_[cut[i]].lo, 3, bounds_.lo[i]);
     std::copy_n(nodes_[cut[i]].hi, 3, bounds_.hi[i]);
+    cut_nodes_[i] = cut[i];
   }
 }
 
@@ -603,7 +604,7 @@ bool SceneObjects::hit_sphere(std::uint32_t k, const SceneRay& r, double t_min, 
   return true;
 }
 
-SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_max, bool any) const noexcept {
+SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_max, bool any, std::uint32_t cut) const noexcept {
   SurfaceHit hit;
   if (nodes_.empty()) return hit;
   double best = t_max;
@@ -623,10 +624,25 @@ SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_m
     }
     return t0 <= t1 ? t0 : inf;
   };
-  std::uint32_t stack[max_bvh_depth];
+  // Room for the cut's boxes as well as for a walk down from any of them.
+  std::uint32_t stack[max_bvh_depth + max_object_bounds];
   int top = 0;
-  if (enter(nodes_[0]) == inf) return hit;
-  stack[top++] = 0;
+  if (cut == 0) {
+    if (enter(nodes_[0]) == inf) return hit;
+    stack[top++] = 0;
+  } else {
+    // The cut's boxes the ray meets, the nearest on top: its walk shrinks `best` for the others.
+    double entry[max_object_bounds];
+    for (int i = 0; i < bounds_.count; ++i) {
+      if ((cut >> i & 1u) == 0) continue;
+      const double t = enter(nodes_[cut_nodes_[i]]);
+      if (t == inf) continue;
+      int k = top++;
+      for (; k > 0 && entry[k - 1] < t; --k) entry[k] = entry[k - 1], stack[k] = stack[k - 1];
+      entry[k] = t;
+      stack[k] = cut_nodes_[i];
+    }
+  }
   while (top > 0) {
     const Node& nd = nodes_[stack[--top]];
     if (nd.count > 0) {
@@ -641,7 +657,7 @@ SurfaceHit SceneObjects::hit_objects(const SceneRay& r, double t_min, double t_m
     // Visit the nearer child first: the farther one is often culled by the shrunken `best` then.
     const std::uint32_t a = nd.first, b = nd.first + 1;
     const double ta = enter(nodes_[a]), tb = enter(nodes_[b]);
-    if (top + 2 > max_bvh_depth) break;  // cannot happen: the median split's depth is log2 of the count
+    if (top + 2 > max_bvh_depth + max_object_bounds) break;  // cannot happen: the median split's depth is log2 of the count
     if (ta <= tb) {
       if (tb != inf) stack[top++] = b;
       if (ta != inf) stack[top++] = a;

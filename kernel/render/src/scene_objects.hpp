@@ -64,6 +64,12 @@ class SceneObjects {
   SurfaceHit intersect_objects(const SceneRay& ray, double t_min, double t_max) const noexcept {
     return hit_objects(ray, t_min, t_max);
   }
+  /// The same, walking only below the boxes of object_bounds() whose bits are set in `cut` (box i:
+  /// 1 << i): floor_hits' bits, which leave out only boxes the ray cannot meet. The walk then skips
+  /// the hierarchy above the cut and the cut's other boxes.
+  SurfaceHit intersect_objects(const SceneRay& ray, double t_min, double t_max, std::uint32_t cut) const noexcept {
+    return hit_objects(ray, t_min, t_max, false, cut);
+  }
   /// Boxes holding every box and sphere, wherever the moving ones may go: the hierarchy's nodes on a
   /// cut through it, taken at build.
   const ObjectBounds& object_bounds() const noexcept { return bounds_; }
@@ -108,8 +114,10 @@ class SceneObjects {
   std::int32_t add_mover(const std::array<float, 3>& center, float motion, double reach);
   /// intersect (skip_clear false) or intersect_secondary (true).
   SurfaceHit nearest(const SceneRay& ray, double t_min, double t_max, bool skip_clear) const noexcept;
-  /// Nearest box or sphere hit in [t_min, t_max) (with `any`: the first found).
-  SurfaceHit hit_objects(const SceneRay& ray, double t_min, double t_max, bool any = false) const noexcept;
+  /// Nearest box or sphere hit in [t_min, t_max) (with `any`: the first found), walking from the root,
+  /// or with `cut` > 0 from the cut's boxes whose bits it sets.
+  SurfaceHit hit_objects(const SceneRay& ray, double t_min, double t_max, bool any = false,
+                         std::uint32_t cut = 0) const noexcept;
   bool hit_box(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
   bool hit_sphere(std::uint32_t k, const SceneRay& r, double t_min, double& best, SurfaceHit& hit) const noexcept;
   void build_bvh();
@@ -150,6 +158,7 @@ class SceneObjects {
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> primitives_;
   ObjectBounds bounds_;
+  std::uint32_t cut_nodes_[max_object_bounds] = {};  // the node of each of bounds_' boxes
   void cut_bounds();
   // Floor.
   double origin_x_ = 0.0, origin_y_ = 0.0, cell_ = 1.0;
