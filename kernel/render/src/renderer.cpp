@@ -414,7 +414,8 @@ static detail::RayPackOutput packed_rays(Scratch& s) {
 /// The nearest hit of each of the row's `rays` packed rays within its reach, into hits[pixel] (the
 /// other pixels' entries are left as they are): the floor a packet at a time (floor_hits,
 /// docs/rendering.md 1.5), then the boxes and spheres before it one by one where the packets say the
-/// ray may meet their bounds; the rays the packets leave go through SceneObjects' walk.
+/// ray may meet their bounds, walking below the bounds' boxes they name; the rays the packets leave
+/// go through SceneObjects' walk.
 void Renderer::Impl::nearest_hits(Scratch& s, std::size_t rays, SurfaceHit* hits) const noexcept {
   float* const* a = s.a;
   detail::floor_hits(objects.floor_grid(), objects.object_bounds(),
